@@ -1,0 +1,53 @@
+// Thin-lens camera with a shutter interval. A camera sample is the 5D point
+// (imageX, imageY, lensU, lensV, time): image position in raster pixels (x right,
+// y down), lens and time in [0,1). Radius 0 gives a pinhole camera.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace penumbra {
+
+using glm::vec3;
+
+struct Camera {
+  vec3 eye = vec3(0.0f, 0.0f, 5.0f);
+  vec3 lookAt = vec3(0.0f);
+  vec3 up = vec3(0.0f, 1.0f, 0.0f);
+  float vfovDegrees = 40.0f;
+  float lensRadius = 0.0f;
+  float focusDistance = 0.0f;  // <= 0: distance from eye to lookAt
+  float shutterOpen = 0.0f;    // scene time in [0,1] at which the shutter opens
+  float shutterClose = 1.0f;
+};
+
+// The 5D point every sampler produces and the integrator consumes.
+struct CameraSample {
+  float imageX = 0.5f, imageY = 0.5f;  // raster position, pixel (px,py) covers [px,px+1)x[py,py+1)
+  float lensU = 0.5f, lensV = 0.5f;
+  float time = 0.5f;  // fraction of the shutter interval
+};
+
+struct Ray {
+  vec3 origin;
+  vec3 direction;  // unit length
+  float time = 0.0f;  // scene time in [0,1]
+};
+
+// Precomputed frame for generating rays at a given resolution.
+struct CameraFrame {
+  vec3 eye, right, upAxis, forward;  // orthonormal; forward points into the scene
+  float halfHeight = 0, halfWidth = 0;  // film extent on the plane at distance 1
+  float lensRadius = 0, focusDistance = 1;
+  float shutterOpen = 0, shutterClose = 1;
+  int width = 1, height = 1;
+};
+
+// Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view).
+CameraFrame makeCameraFrame(const Camera& camera, int width, int height);
+Ray generateRay(const CameraFrame& frame, const CameraSample& sample);
+
+// Concentric mapping of [0,1)^2 onto the unit disk (Shirley-Chiu).
+glm::vec2 sampleUnitDisk(float u, float v);
+
+}  // namespace penumbra

@@ -1,0 +1,49 @@
+// Unidirectional path tracer: next-event estimation on the area lights combined with
+// BSDF sampling by multiple importance sampling (power heuristic), Russian roulette
+// after the third vertex, and a maximum depth (pbrt-v4 convention: 0 = emitters seen
+// directly, 1 = direct lighting, ...). `traceRadiance` is the one entry point every
+// sampler calls: radiance (linear RGB) of the camera sample at a given 5D point.
+#pragma once
+
+#include "engine/accel.h"
+#include "engine/lights.h"
+#include "engine/sampler.h"
+#include "engine/scene.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace penumbra {
+
+// A scene ready to trace: acceleration structure, light sampler and camera frame.
+struct PreparedScene {
+  Scene scene;
+  std::unique_ptr<Accel> accel;
+  LightSampler lights;
+  CameraFrame camera;
+};
+
+// Builds the BVH and light tables; throws SceneError on an unusable camera.
+std::unique_ptr<PreparedScene> prepareScene(Scene scene);
+
+struct PathCounters {
+  uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays
+};
+
+// Radiance arriving through `sample`; the integrator's own dimensions come from
+// `dimensions` (already started on this pixel sample). May be non-finite on a
+// numerical failure: callers must check before accumulating.
+vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
+                   PixelSampler& dimensions, PathCounters& counters);
+
+// Geometry and material at a hit, at the ray's time.
+struct SurfaceHit {
+  vec3 point;
+  vec3 geometricNormal;  // unit, counter-clockwise side
+  vec3 shadingNormal;    // unit, same side as geometricNormal
+  vec2 uv;
+  uint32_t materialId = 0;
+};
+SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time);
+
+}  // namespace penumbra

@@ -1,0 +1,19 @@
+// The `penumbra` command line: each subcommand registers its flags and callback on the
+// CLI11 app. A callback reports failure by throwing CommandError (or SceneError); main
+// prints "penumbra <command>: <message>" and exits with status 1.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <stdexcept>
+
+namespace penumbra {
+
+struct CommandError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void registerRenderCommand(CLI::App& app);
+void registerDiffCommand(CLI::App& app);
+
+}  // namespace penumbra
