@@ -18,7 +18,7 @@
 namespace penumbra {
 
 namespace {
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
 // Reads typed values out of a JSON node; every error names the file and the field path.
@@ -268,13 +268,13 @@ Motion readMotion(const Reader& r, const Json& node, const std::string& f) {
 Mesh readShape(const Reader& r, const Json& node, const std::string& f, const std::string& shape,
                Scene& scene, std::vector<Material>& objMaterials, std::vector<std::string>& objMaps) {
   try {
-    if (shape == "sphere") return makeSphere(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 4096), r.integer(node, f, "rings", 48, 2, 4096));
+    if (shape == "sphere") return makeSphere(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 2048), r.integer(node, f, "rings", 48, 2, 1024));
     if (shape == "rectangle") {
       const vec2 size = node.contains("size") ? r.vector2(node["size"], f + ".size") : vec2(1.0f);
       if (!(size.x > 0 && size.y > 0)) r.fail(f + ".size", "must be positive");
       return makeRectangle(size);
     }
-    if (shape == "disk") return makeDisk(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 4096));
+    if (shape == "disk") return makeDisk(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 2048));
     if (shape == "box") {
       const vec3 size = r.vector3(node, f, "size", vec3(1.0f));
       if (!(size.x > 0 && size.y > 0 && size.z > 0)) r.fail(f + ".size", "must be positive");
@@ -282,10 +282,10 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
     }
     if (shape == "cylinder")
       return makeCylinder(r.positive(node, f, "radius", 1.0f), r.positive(node, f, "height", 1.0f),
-                          r.integer(node, f, "segments", 96, 3, 4096), r.boolean(node, f, "capped", true));
+                          r.integer(node, f, "segments", 96, 3, 2048), r.boolean(node, f, "capped", true));
     if (shape == "torus")
       return makeTorus(r.positive(node, f, "major_radius", 1.0f), r.positive(node, f, "minor_radius", 0.25f),
-                       r.integer(node, f, "segments", 128, 3, 4096), r.integer(node, f, "tube_segments", 48, 3, 4096));
+                       r.integer(node, f, "segments", 128, 3, 2048), r.integer(node, f, "tube_segments", 48, 3, 1024));
     if (shape == "mesh") {
       const std::string path = r.filePath(node, f);
       std::string ext = fs::path(path).extension().string();
@@ -358,6 +358,11 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
   const mat4 base = node.contains("transform") ? readTransform(r, node["transform"], f + ".transform") : mat4(1.0f);
   const Motion motion = node.contains("motion") ? readMotion(r, node["motion"], f + ".motion") : Motion{};
   if (std::abs(glm::determinant(glm::mat3(base))) < 1e-12f) r.fail(f + ".transform", "transform is singular");
+  // Motion copies every vertex per time step: refuse what would not fit in memory.
+  constexpr double kMaxVertexSteps = 5e7;
+  if (double(mesh.vertexCount) * motionTimeSteps(motion) > kMaxVertexSteps)
+    r.fail(f + ".motion", std::to_string(mesh.vertexCount) + " vertices x " + std::to_string(motionTimeSteps(motion)) +
+                              " time steps is too large; use fewer segments or time_steps");
   scene.meshes.push_back(placeMesh(mesh, base, motion));
 }
 
@@ -394,6 +399,10 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
     const size_t cut = what.find("syntax error");
     throw SceneError(path + ":" + lineAndColumn(text, e.byte == 0 ? 0 : e.byte - 1) + ": " +
                      (cut == std::string::npos ? what : what.substr(cut)));
+  } catch (const Json::exception& e) {  // e.g. a number too large for a double
+    std::string what = e.what();
+    const size_t cut = what.find("] ");
+    throw SceneError(path + ": " + (cut == std::string::npos ? what : what.substr(cut + 2)));
   }
   const Reader r(path, baseDir);
   r.checkKeys(root, "", {"render", "camera", "background", "textures", "materials", "objects"});

@@ -8,7 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -50,7 +52,26 @@ void writeStats(const std::string& path, const RenderFlags& flags, const Scene& 
   });
 }
 
+void createParentDirectory(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (ec) throw CommandError(path + ": cannot create directory '" + parent.string() + "': " + ec.message());
+}
+
+void checkImageExtension(const std::string& flag, const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".exr" && ext != ".pfm" && ext != ".png")
+    throw CommandError(flag + " " + path + ": unsupported image format '" + ext + "' (expected .exr, .pfm or .png)");
+}
+
 void run(const RenderFlags& flags) {
+  // Fail on a bad output name before spending minutes rendering.
+  checkImageExtension("--output", flags.output);
+  if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
+  for (const std::string* path : {&flags.output, &flags.statsPath, &flags.variancePath})
+    if (!path->empty()) createParentDirectory(*path);
   Scene scene = loadSceneWithOptions(flags.scene);
   auto prepared = prepareScene(std::move(scene));
   const Scene& s = prepared->scene;
