@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 namespace penumbra {
 namespace {
@@ -147,6 +148,28 @@ TEST(SceneLoader, ShippedScenesLoad) {
     const std::string path = test::sourcePath(std::string("scenes/") + name + ".json");
     EXPECT_NO_THROW(loadScene(path)) << path;
   }
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// The example in docs/scene-format.md is a real scene: keep the documentation true.
+TEST(SceneLoader, DocumentedExampleLoads) {
+  std::ifstream doc(test::sourcePath("docs/scene-format.md"));
+  std::stringstream text;
+  text << doc.rdbuf();
+  const std::string md = text.str();
+  const size_t heading = md.find("## Example");
+  ASSERT_NE(heading, std::string::npos);
+  const size_t start = md.find("```json\n", heading);
+  const size_t end = md.find("```", start + 8);
+  ASSERT_NE(start, std::string::npos);
+  const Scene scene = parseSceneJson(md.substr(start + 8, end - start - 8), "scene-format.md", ".");
+  EXPECT_EQ(scene.meshes.size(), 4u);
+  EXPECT_EQ(scene.meshes[1].timeSteps, 37);
 }
 
 }  // namespace

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# The command line as a user runs it: renders, diffs, and every kind of bad input
+# (unknown flag, bad value, missing or malformed file) exiting non-zero with a one-line
+# message that names the flag, file and place. Usage: cli_test.sh PENUMBRA SOURCE_DIR
+set -u
+penumbra=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+passes=0
+
+# expect_fail "description" "expected message fragment" command...
+expect_fail() {
+  local what=$1 expected=$2
+  shift 2
+  local out status
+  out=$("$@" 2>&1)
+  status=$?
+  if [ $status -eq 0 ]; then
+    echo "FAIL: $what: exited 0"; failures=$((failures + 1)); return
+  fi
+  if [ "$(printf '%s\n' "$out" | wc -l)" -ne 1 ]; then
+    echo "FAIL: $what: expected one line, got:"; printf '%s\n' "$out"; failures=$((failures + 1)); return
+  fi
+  case "$out" in
+    *"$expected"*) passes=$((passes + 1)) ;;
+    *) echo "FAIL: $what: expected '$expected' in: $out"; failures=$((failures + 1)) ;;
+  esac
+}
+
+expect_ok() {
+  local what=$1
+  shift
+  if "$@" >"$work/out.txt" 2>&1; then passes=$((passes + 1)); else
+    echo "FAIL: $what:"; cat "$work/out.txt"; failures=$((failures + 1)); fi
+}
+
+cornell="$src/scenes/cornell.json"
+expect_ok "render png" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.png" --stats "$work/s.json" -q
+expect_ok "render exr" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.exr" -q
+expect_ok "render pfm into a new folder" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/new/dir/a.pfm" -q
+expect_ok "diff" "$penumbra" diff "$work/a.exr" "$work/a.exr" --out "$work/d.png" --json
+for key in time_seconds rays mrays_per_second spp nan_samples; do
+  grep -q "\"$key\"" "$work/s.json" || { echo "FAIL: stats.json lacks $key"; failures=$((failures + 1)); }
+done
+# Same seed, different thread counts: identical bytes.
+"$penumbra" render "$cornell" --size 24x24 --spp 4 --seed 9 --threads 1 -o "$work/t1.pfm" -q
+"$penumbra" render "$cornell" --size 24x24 --spp 4 --seed 9 --threads 2 -o "$work/t2.pfm" -q
+cmp -s "$work/t1.pfm" "$work/t2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the image"; failures=$((failures + 1)); }
+
+expect_fail "unknown flag" "--frobnicate" "$penumbra" render "$cornell" -o "$work/x.png" --frobnicate
+expect_fail "bad spp" "--spp" "$penumbra" render "$cornell" -o "$work/x.png" --spp zero
+expect_fail "spp out of range" "--spp" "$penumbra" render "$cornell" -o "$work/x.png" --spp 0
+expect_fail "bad size" "--size: expected WxH" "$penumbra" render "$cornell" -o "$work/x.png" --size 12by12
+expect_fail "bad eye" "--eye: expected x,y,z" "$penumbra" render "$cornell" -o "$work/x.png" --eye 1,2
+expect_fail "bad shutter" "--shutter" "$penumbra" render "$cornell" -o "$work/x.png" --shutter 0.8,0.2
+expect_fail "bad output format" "unsupported image format '.jpg'" "$penumbra" render "$cornell" -o "$work/x.jpg"
+expect_fail "missing scene" "nowhere.json" "$penumbra" render "$work/nowhere.json" -o "$work/x.png"
+expect_fail "missing output flag" "--output" "$penumbra" render "$cornell"
+expect_fail "unknown command" "teleport" "$penumbra" teleport
+printf '{"materials": {"m": {"type": "diffuse"}}, "objects": [{"shape": "sphere", "material": "n"}]}' >"$work/bad.json"
+expect_fail "unknown material" "bad.json: objects[0].material: unknown material 'n'" "$penumbra" render "$work/bad.json" -o "$work/x.png"
+printf '{"materials": {\n  "m": {"type": "diffuse",}\n}}' >"$work/syntax.json"
+expect_fail "syntax error" "syntax.json:2:" "$penumbra" render "$work/syntax.json" -o "$work/x.png"
+expect_fail "diff size mismatch" "size" "$penumbra" diff "$work/a.exr" "$work/t1.pfm"
+[ -e "$work/x.png" ] && { echo "FAIL: a failed render left an output file"; failures=$((failures + 1)); }
+ls "$work" | grep -q tmp && { echo "FAIL: temporary files left behind"; failures=$((failures + 1)); }
+
+echo "$passes passed, $failures failed"
+[ $failures -eq 0 ]
