@@ -48,7 +48,7 @@ T interpolateStep(const std::vector<T>& values, const Mesh& mesh, uint32_t verte
   return (1 - w) * values[base] + w * values[base + mesh.vertexCount];
 }
 
-constexpr int kDimsPerBounce = 4;  // light choice, light point, BSDF direction, BSDF lobe + RR
+// Per bounce: light choice (1D), light point (2D), BSDF direction (2D), lobe (1D), roulette (1D).
 }  // namespace
 
 std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
@@ -102,13 +102,6 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   vec3 previousPoint = ray.origin;
 
   for (int depth = 0;; ++depth) {
-    // The same number of dimensions every bounce keeps LD dimensions aligned across paths.
-    const float uLight = dimensions.next1D();
-    const glm::vec2 uLightPoint = dimensions.next2D();
-    const glm::vec2 uBsdf = dimensions.next2D();
-    const glm::vec2 uLobeAndRoulette = dimensions.next2D();
-    static_assert(kDimsPerBounce == 4);
-
     Hit hit;
     ++counters.rays;
     if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
@@ -133,8 +126,12 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
 
     const SurfaceBsdf bsdf = makeBsdf(scene, surface);
 
-    // Next-event estimation.
-    if (!bsdf.isSpecular() && !prepared.lights.empty()) {
+    // Every bounce owns five dimensions (above), drawn only when used and skipped
+    // otherwise, so each dimension means the same thing in every path of the pixel.
+    const bool nextEvent = !bsdf.isSpecular() && !prepared.lights.empty();
+    if (nextEvent) {
+      const float uLight = dimensions.next1D();
+      const glm::vec2 uLightPoint = dimensions.next2D();
       LightSample ls;
       if (sampleLight(scene, prepared.lights, surface.point, ray.time, uLight, uLightPoint, ls)) {
         const vec3 toLight = ls.point - surface.point;
@@ -150,11 +147,19 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
           }
         }
       }
+    } else {
+      dimensions.skip(2);
     }
 
     // Continue the path by sampling the BSDF.
+    const glm::vec2 uBsdf = dimensions.next2D();
+    float uLobe = 0.5f;
+    if (bsdf.type == Material::Type::Dielectric)
+      uLobe = dimensions.next1D();
+    else
+      dimensions.skip(1);
     BsdfSample bs;
-    if (!sampleBsdf(bsdf, wo, uBsdf, uLobeAndRoulette.x, bs)) break;
+    if (!sampleBsdf(bsdf, wo, uBsdf, uLobe, bs)) break;
     throughput *= bs.weight;
     specularBounce = bs.specular;
     previousBsdfPdf = bs.pdf;
@@ -164,8 +169,10 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     // Russian roulette once the path has a few vertices.
     if (depth >= 2) {
       const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
-      if (uLobeAndRoulette.y >= survive) break;
+      if (dimensions.next1D() >= survive) break;
       throughput /= survive;
+    } else {
+      dimensions.skip(1);
     }
   }
   return radiance;

@@ -37,20 +37,30 @@ void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, 
 
 LightSampler buildLightSampler(const Scene& scene) {
   LightSampler ls;
+  ls.triangleProbability.resize(scene.meshes.size());
+  std::vector<double> weights;
   double sum = 0;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
       if (!scene.materials[mesh.materialIds[t]].isEmissive()) continue;
-      const float w = emitterWeight(scene, mesh, t);
-      if (!(w > 0)) continue;
-      ls.emitters.push_back({m, t});
+      const double w = emitterWeight(scene, mesh, t);
+      if (!(w > 0) || !std::isfinite(w)) continue;
+      ls.emitters.push_back({m, t, 0.0f});
+      weights.push_back(w);
       sum += w;
-      ls.cdf.push_back(float(sum));
     }
   }
-  ls.totalWeight = sum;
-  for (float& c : ls.cdf) c = float(c / sum);
+  double running = 0;
+  for (size_t i = 0; i < ls.emitters.size(); ++i) {
+    LightSampler::Emitter& e = ls.emitters[i];
+    e.probability = float(weights[i] / sum);
+    running += weights[i];
+    ls.cdf.push_back(float(running / sum));
+    auto& perTriangle = ls.triangleProbability[e.meshId];
+    if (perTriangle.empty()) perTriangle.assign(scene.meshes[e.meshId].triangleCount(), 0.0f);
+    perTriangle[e.primId] = e.probability;
+  }
   if (!ls.cdf.empty()) ls.cdf.back() = 1.0f;
   return ls;
 }
@@ -68,32 +78,30 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   const float b0 = 1 - su, b1 = uTri.y * su;
   out.point = b0 * p0 + b1 * p1 + (1 - b0 - b1) * p2;
   const vec3 cross = glm::cross(p1 - p0, p2 - p0);
-  const float area = 0.5f * glm::length(cross);
-  if (!(area > 0)) return false;
-  out.normal = cross / (2.0f * area);
+  const float doubleArea = glm::length(cross);
+  if (!(doubleArea > 0)) return false;
+  out.normal = cross / doubleArea;
   const vec3 toLight = out.point - reference;
   const float dist2 = glm::dot(toLight, toLight);
   const float cosLight = -glm::dot(out.normal, toLight) / std::sqrt(dist2);
   if (!(cosLight > 0) || !(dist2 > 0)) return false;  // back side does not emit
-  const float choose = float(emitterWeight(scene, mesh, e.primId) / lights.totalWeight);
-  out.pdf = choose * dist2 / (area * cosLight);
+  out.pdf = e.probability * dist2 / (0.5f * doubleArea * cosLight);
   out.radiance = scene.materials[mesh.materialIds[e.primId]].emission;
   return std::isfinite(out.pdf);
 }
 
 float lightPdf(const Scene& scene, const LightSampler& lights, uint32_t meshId, uint32_t primId,
                vec3 reference, vec3 point, vec3 normal, float time) {
-  if (lights.empty()) return 0;
-  const Mesh& mesh = scene.meshes[meshId];
+  const std::vector<float>& perTriangle = lights.triangleProbability[meshId];
+  if (perTriangle.empty() || !(perTriangle[primId] > 0)) return 0;
   vec3 p0, p1, p2;
-  trianglePositions(mesh, primId, time, p0, p1, p2);
+  trianglePositions(scene.meshes[meshId], primId, time, p0, p1, p2);
   const float area = triangleArea(p0, p1, p2);
   const vec3 d = point - reference;
   const float dist2 = glm::dot(d, d);
   const float cosLight = std::abs(glm::dot(normal, d)) / std::sqrt(dist2);
   if (!(area > 0) || !(cosLight > 0)) return 0;
-  const float choose = float(emitterWeight(scene, mesh, primId) / lights.totalWeight);
-  return choose * dist2 / (area * cosLight);
+  return perTriangle[primId] * dist2 / (area * cosLight);
 }
 
 }  // namespace penumbra

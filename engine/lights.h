@@ -13,10 +13,13 @@ namespace penumbra {
 struct LightSampler {
   struct Emitter {
     uint32_t meshId, primId;
+    float probability;  // of choosing this triangle
   };
   std::vector<Emitter> emitters;
   std::vector<float> cdf;  // normalised, cdf.back() == 1
-  double totalWeight = 0;
+  // probability[mesh][triangle] for meshes with emitters (empty otherwise), so a BSDF
+  // ray that hits an emitter finds its light-sampling pdf without a search.
+  std::vector<std::vector<float>> triangleProbability;
 
   bool empty() const { return emitters.empty(); }
 };

@@ -15,6 +15,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <array>
 #include <cstdint>
 
 namespace penumbra {
@@ -22,12 +23,34 @@ namespace penumbra {
 enum class SamplerKind { LowDiscrepancy, Independent };
 
 // Scrambled radical inverses (pbrt-v2 montecarlo.h, VanDerCorput and Sobol2).
-float vanDerCorput(uint32_t index, uint32_t scramble);
-float sobol2(uint32_t index, uint32_t scramble);
+inline float vanDerCorput(uint32_t index, uint32_t scramble) {
+  index = __builtin_bswap32(index);
+  index = ((index & 0x0f0f0f0f) << 4) | ((index & 0xf0f0f0f0) >> 4);
+  index = ((index & 0x33333333) << 2) | ((index & 0xcccccccc) >> 2);
+  index = ((index & 0x55555555) << 1) | ((index & 0xaaaaaaaa) >> 1);
+  return toUnitFloat(index ^ scramble);
+}
 
-// Bijection of [0, n) for n a power of two, chosen by `key` (Kensler's hashed permutation,
-// restricted to powers of two).
-uint32_t permuteIndex(uint32_t index, uint32_t n, uint32_t key);
+inline float sobol2(uint32_t index, uint32_t scramble) {
+  // Branch-free: the bits of a shuffled index are random, so a branch per bit mispredicts.
+  for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1) scramble ^= (0u - (index & 1u)) & v;
+  return toUnitFloat(scramble);
+}
+
+// Bijection of [0, n) for n a power of two, chosen by `key`: rounds of xor, odd multiply
+// and xor-shift, each invertible modulo 2^k (after Kensler's hashed permutation).
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+  const uint32_t mask = n - 1;
+  i ^= key;
+  i *= 0xe170893du | (key >> 16) | 1u;
+  i ^= (i & mask) >> 3;
+  i ^= key >> 8;
+  i *= 0x0929eb3fu;
+  i ^= (i & mask) >> 2;
+  i *= 0x6935fa69u;
+  i ^= (i & mask) >> 1;
+  return i & mask;
+}
 
 uint32_t roundUpPowerOfTwo(uint32_t v);
 
@@ -44,13 +67,22 @@ class PixelSampler {
   CameraSample cameraSample();
   float next1D();
   glm::vec2 next2D();
+  // Leaves `count` dimensions unused, so the next ones keep their index in every path
+  // (LD dimensions must line up across the samples of a pixel to stay stratified).
+  void skip(uint32_t count) { dimension_ += count; }
 
   SamplerKind kind() const { return kind_; }
   uint32_t setSize() const { return setSize_; }
 
  private:
-  uint32_t dimensionKey(uint32_t dimension) const;
-  uint32_t shuffledIndex(uint32_t dimension) const;
+  // Per (pixel, dimension): the shuffle key and the scrambles of the two coordinates.
+  struct DimensionKeys {
+    uint32_t shuffle, scrambleX, scrambleY;
+  };
+  static constexpr uint32_t kCachedDimensions = 64;
+  DimensionKeys keysFor(uint32_t dimension) const;
+  const DimensionKeys& keys(uint32_t dimension);
+  uint32_t shuffledIndex(const DimensionKeys& keys) const;
 
   SamplerKind kind_;
   uint64_t seed_;
@@ -59,6 +91,12 @@ class PixelSampler {
   uint32_t sampleIndex_ = 0;
   uint32_t dimension_ = 0;
   int px_ = 0, py_ = 0;
+  bool havePixel_ = false;
+  // Hashing keys is the costly part of an LD sample; they depend only on the pixel and
+  // the dimension, so they are computed once per pixel, on first use.
+  std::array<DimensionKeys, kCachedDimensions> cache_{};
+  uint32_t cachedCount_ = 0;
+  DimensionKeys overflow_{};
   Pcg32 rng_;
 };
 
