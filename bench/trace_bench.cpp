@@ -42,7 +42,7 @@ std::vector<RecordedQuery> recordQueries(const PreparedScene& prepared, int spp)
   for (int p = 0; p < w * h; p += 7)
     for (int i = 0; i < spp; ++i) {
       sampler.startSample(p % w, p / w, uint32_t(i));
-      traceRadiance(prepared, sampler.cameraSample(), sampler, counters);
+      traceRadiance(prepared, sampler.cameraSample(prepared.usesLens, prepared.usesTime), sampler, counters);
     }
   recordQueriesOnThisThread(nullptr);
   return log;

@@ -61,6 +61,10 @@ std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
   prepared->scene = std::move(scene);
   prepared->accel = std::make_unique<Accel>(prepared->scene);
   prepared->lights = buildLightSampler(prepared->scene);
+  prepared->usesLens = prepared->camera.lensRadius > 0;
+  const Scene& s = prepared->scene;
+  prepared->usesTime = s.camera.shutterClose > s.camera.shutterOpen &&
+                       std::any_of(s.meshes.begin(), s.meshes.end(), [](const Mesh& m) { return m.timeSteps > 1; });
   return prepared;
 }
 

@@ -21,6 +21,8 @@ struct PreparedScene {
   std::unique_ptr<Accel> accel;
   LightSampler lights;
   CameraFrame camera;
+  bool usesLens = false;  // thin lens with a radius
+  bool usesTime = false;  // something moves while the shutter is open
 };
 
 // Builds the BVH and light tables; throws SceneError on an unusable camera.

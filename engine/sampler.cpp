@@ -45,7 +45,7 @@ uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
   return block | permuteIndex(sampleIndex_ & (setSize_ - 1), setSize_, k.shuffle);
 }
 
-CameraSample PixelSampler::cameraSample() {
+CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {
   CameraSample s;
   if (kind_ == SamplerKind::Independent) {
     s.imageX = px_ + rng_.nextFloat();
@@ -61,12 +61,16 @@ CameraSample PixelSampler::cameraSample() {
   const uint32_t imageIndex = shuffledIndex(image);
   s.imageX = px_ + vanDerCorput(imageIndex, image.scrambleX);
   s.imageY = py_ + sobol2(imageIndex, image.scrambleY);
-  const DimensionKeys& lens = keys(kLensDim);
-  const uint32_t lensIndex = shuffledIndex(lens);
-  s.lensU = vanDerCorput(lensIndex, lens.scrambleX);
-  s.lensV = sobol2(lensIndex, lens.scrambleY);
-  const DimensionKeys& time = keys(kTimeDim);
-  s.time = vanDerCorput(shuffledIndex(time), time.scrambleX);
+  if (needLens) {
+    const DimensionKeys& lens = keys(kLensDim);
+    const uint32_t lensIndex = shuffledIndex(lens);
+    s.lensU = vanDerCorput(lensIndex, lens.scrambleX);
+    s.lensV = sobol2(lensIndex, lens.scrambleY);
+  }
+  if (needTime) {
+    const DimensionKeys& time = keys(kTimeDim);
+    s.time = vanDerCorput(shuffledIndex(time), time.scrambleX);
+  }
   return s;
 }
 

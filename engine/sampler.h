@@ -63,8 +63,9 @@ class PixelSampler {
 
   // Starts sample `sampleIndex` of pixel (px, py); resets the dimension counter.
   void startSample(int px, int py, uint32_t sampleIndex);
-  // The 5D point of the current sample (dimensions 0-4).
-  CameraSample cameraSample();
+  // The 5D point of the current sample (dimensions 0-4). A pinhole camera needs no lens
+  // sample and a scene without motion no time: those are left at 0.5, not computed.
+  CameraSample cameraSample(bool needLens = true, bool needTime = true);
   float next1D();
   glm::vec2 next2D();
   // Leaves `count` dimensions unused, so the next ones keep their index in every path
