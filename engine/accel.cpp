@@ -58,15 +58,15 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     rtcSetGeometryTimeStepCount(geom, unsigned(mesh.timeSteps));
     for (int step = 0; step < mesh.timeSteps; ++step) {
       // rtcSetNewGeometryBuffer pads the buffer as Embree requires.
-      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geom, RTC_BUFFER_TYPE_VERTEX, unsigned(step), RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-          mesh.vertexCount));
+      auto* vertices = static_cast<float*>(
+          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, unsigned(step), RTC_FORMAT_FLOAT3,
+                                  3 * sizeof(float), mesh.vertexCount));
       std::memcpy(vertices, &mesh.positions[size_t(step) * mesh.vertexCount],
                   sizeof(float) * 3 * mesh.vertexCount);
     }
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
-        mesh.triangleCount()));
+    auto* indices = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(uint32_t), mesh.triangleCount()));
     std::memcpy(indices, mesh.indices.data(), sizeof(uint32_t) * mesh.indices.size());
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(impl_->scene, geom, unsigned(m));

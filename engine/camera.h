@@ -30,13 +30,13 @@ struct CameraSample {
 
 struct Ray {
   vec3 origin;
-  vec3 direction;  // unit length
+  vec3 direction;     // unit length
   float time = 0.0f;  // scene time in [0,1]
 };
 
 // Precomputed frame for generating rays at a given resolution.
 struct CameraFrame {
-  vec3 eye, right, upAxis, forward;  // orthonormal; forward points into the scene
+  vec3 eye, right, upAxis, forward;     // orthonormal; forward points into the scene
   float halfHeight = 0, halfWidth = 0;  // film extent on the plane at distance 1
   float lensRadius = 0, focusDistance = 1;
   float shutterOpen = 0, shutterClose = 1;

@@ -20,8 +20,7 @@ std::vector<uint8_t> toSrgb8(const Image& image, float exposureStops) {
   std::vector<uint8_t> out(image.pixels.size() * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i) {
     const vec3 c = image.pixels[i] * scale;
-    for (int k = 0; k < 3; ++k)
-      out[3 * i + k] = uint8_t(std::lround(255.0f * linearToSrgb(c[k])));
+    for (int k = 0; k < 3; ++k) out[3 * i + k] = uint8_t(std::lround(255.0f * linearToSrgb(c[k])));
   }
   return out;
 }

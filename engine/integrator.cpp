@@ -63,8 +63,9 @@ std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
   prepared->lights = buildLightSampler(prepared->scene);
   prepared->usesLens = prepared->camera.lensRadius > 0;
   const Scene& s = prepared->scene;
-  prepared->usesTime = s.camera.shutterClose > s.camera.shutterOpen &&
-                       std::any_of(s.meshes.begin(), s.meshes.end(), [](const Mesh& m) { return m.timeSteps > 1; });
+  prepared->usesTime =
+      s.camera.shutterClose > s.camera.shutterOpen &&
+      std::any_of(s.meshes.begin(), s.meshes.end(), [](const Mesh& m) { return m.timeSteps > 1; });
   return prepared;
 }
 

@@ -8,7 +8,9 @@
 namespace penumbra {
 
 namespace {
-float triangleArea(vec3 p0, vec3 p1, vec3 p2) { return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0)); }
+float triangleArea(vec3 p0, vec3 p1, vec3 p2) {
+  return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+}
 
 float emitterWeight(const Scene& scene, const Mesh& mesh, uint32_t primId) {
   vec3 p0, p1, p2;
@@ -17,7 +19,8 @@ float emitterWeight(const Scene& scene, const Mesh& mesh, uint32_t primId) {
 }
 }  // namespace
 
-void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1, vec3& p2) {
+void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1,
+                       vec3& p2) {
   const uint32_t* idx = &mesh.indices[3 * size_t(primId)];
   if (mesh.timeSteps <= 1) {
     p0 = mesh.positions[idx[0]];
@@ -68,7 +71,8 @@ LightSampler buildLightSampler(const Scene& scene) {
 bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference, float time,
                  float uChoose, glm::vec2 uTri, LightSample& out) {
   if (lights.empty()) return false;
-  const size_t i = size_t(std::upper_bound(lights.cdf.begin(), lights.cdf.end(), uChoose) - lights.cdf.begin());
+  const size_t i =
+      size_t(std::upper_bound(lights.cdf.begin(), lights.cdf.end(), uChoose) - lights.cdf.begin());
   const auto& e = lights.emitters[std::min(i, lights.emitters.size() - 1)];
   const Mesh& mesh = scene.meshes[e.meshId];
   vec3 p0, p1, p2;

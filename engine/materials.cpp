@@ -95,7 +95,9 @@ ShadingFrame makeFrame(vec3 n) {
   return f;
 }
 
-vec3 ShadingFrame::toLocal(vec3 v) const { return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)}; }
+vec3 ShadingFrame::toLocal(vec3 v) const {
+  return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)};
+}
 vec3 ShadingFrame::toWorld(vec3 v) const { return v.x * s + v.y * t + v.z * n; }
 
 float fresnelDielectric(float cosThetaI, float eta) {
@@ -137,7 +139,8 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       // Sample D(h) cos(theta_h), reflect wo about h.
       const float a2 = b.alpha * b.alpha;
       const float cos2 = (1.0f - u.x) / (1.0f + (a2 - 1.0f) * u.x);
-      const float cosT = std::sqrt(std::max(0.0f, cos2)), sinT = std::sqrt(std::max(0.0f, 1.0f - cos2));
+      const float cosT = std::sqrt(std::max(0.0f, cos2)),
+                  sinT = std::sqrt(std::max(0.0f, 1.0f - cos2));
       const float phi = 2.0f * kPi * u.y;
       vec3 h(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
       h.z *= side;

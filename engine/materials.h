@@ -9,7 +9,7 @@
 namespace penumbra {
 
 struct ShadingFrame {
-  vec3 n;  // shading normal
+  vec3 n;     // shading normal
   vec3 s, t;  // tangents completing an orthonormal basis with n
   vec3 toLocal(vec3 v) const;
   vec3 toWorld(vec3 v) const;
@@ -25,12 +25,14 @@ struct SurfaceBsdf {
   ShadingFrame frame;
   vec3 geometricNormal;  // unit, the triangle's counter-clockwise normal
 
-  bool isSpecular() const { return type == Material::Type::Mirror || type == Material::Type::Dielectric; }
+  bool isSpecular() const {
+    return type == Material::Type::Mirror || type == Material::Type::Dielectric;
+  }
 };
 
 struct BsdfSample {
   vec3 wi;
-  vec3 weight;  // f * |cos| / pdf
+  vec3 weight;    // f * |cos| / pdf
   float pdf = 0;  // solid angle; 0 for specular lobes
   bool specular = false;
 };

@@ -48,7 +48,8 @@ RenderResult renderImage(const PreparedScene& prepared, const RenderOptions& opt
             for (int i = 0; i < spp; ++i) {
               sampler.startSample(x, y, uint32_t(i));
               const vec3 L = traceRadiance(
-                  prepared, sampler.cameraSample(prepared.usesLens, prepared.usesTime), sampler, counters);
+                  prepared, sampler.cameraSample(prepared.usesLens, prepared.usesTime), sampler,
+                  counters);
               if (!isFinite(L)) {
                 ++tileNonFinite;
                 continue;

@@ -25,8 +25,8 @@ struct RenderOptions {
 };
 
 struct RenderResult {
-  Image image;          // per-pixel mean of the finite samples (box filter)
-  Image varianceOfMean; // per channel: unbiased sample variance / sample count
+  Image image;           // per-pixel mean of the finite samples (box filter)
+  Image varianceOfMean;  // per channel: unbiased sample variance / sample count
   uint64_t rays = 0;
   uint64_t samples = 0;
   uint64_t nonFiniteSamples = 0;  // NaN or infinite samples, dropped and counted

@@ -16,8 +16,12 @@ inline uint64_t mixBits(uint64_t v) {
   return v;
 }
 
-inline uint64_t hashValues(uint64_t a, uint64_t b) { return mixBits(a * 0x9e3779b97f4a7c15ULL ^ mixBits(b)); }
-inline uint64_t hashValues(uint64_t a, uint64_t b, uint64_t c) { return hashValues(hashValues(a, b), c); }
+inline uint64_t hashValues(uint64_t a, uint64_t b) {
+  return mixBits(a * 0x9e3779b97f4a7c15ULL ^ mixBits(b));
+}
+inline uint64_t hashValues(uint64_t a, uint64_t b, uint64_t c) {
+  return hashValues(hashValues(a, b), c);
+}
 
 // 32-bit integer to float in [0,1): top 24 bits, so 1 is never reached.
 inline float toUnitFloat(uint32_t v) { return float(v >> 8) * 0x1p-24f; }

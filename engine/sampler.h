@@ -33,7 +33,8 @@ inline float vanDerCorput(uint32_t index, uint32_t scramble) {
 
 inline float sobol2(uint32_t index, uint32_t scramble) {
   // Branch-free: the bits of a shuffled index are random, so a branch per bit mispredicts.
-  for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1) scramble ^= (0u - (index & 1u)) & v;
+  for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
+    scramble ^= (0u - (index & 1u)) & v;
   return toUnitFloat(scramble);
 }
 

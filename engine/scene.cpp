@@ -61,7 +61,8 @@ Mesh placeMesh(const Mesh& objectSpace, const mat4& base, const Motion& motion) 
   }
   // A mirroring transform turns counter-clockwise into clockwise: restore the front side.
   if (glm::determinant(glm::mat3(base)) < 0)
-    for (size_t i = 0; i + 2 < out.indices.size(); i += 3) std::swap(out.indices[i + 1], out.indices[i + 2]);
+    for (size_t i = 0; i + 2 < out.indices.size(); i += 3)
+      std::swap(out.indices[i + 1], out.indices[i + 2]);
   return out;
 }
 

@@ -56,11 +56,11 @@ struct Material {
   enum class Type { Diffuse, Conductor, Mirror, Dielectric };
   Type type = Type::Diffuse;
   std::string name;
-  int albedoTexture = -1;           // Diffuse: index into Scene::textures; -1 uses `albedo`
-  vec3 albedo = vec3(0.8f);         // Diffuse reflectance, or Conductor/Mirror tint (F0)
-  float roughness = 0.2f;           // Conductor: GGX alpha = roughness^2
-  float ior = 1.5f;                 // Dielectric index of refraction
-  vec3 emission = vec3(0.0f);       // radiance emitted on the front side (CCW normal)
+  int albedoTexture = -1;      // Diffuse: index into Scene::textures; -1 uses `albedo`
+  vec3 albedo = vec3(0.8f);    // Diffuse reflectance, or Conductor/Mirror tint (F0)
+  float roughness = 0.2f;      // Conductor: GGX alpha = roughness^2
+  float ior = 1.5f;            // Dielectric index of refraction
+  vec3 emission = vec3(0.0f);  // radiance emitted on the front side (CCW normal)
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 

@@ -31,10 +31,12 @@ class Reader {
   }
 
   // Rejects fields the format does not define (a typo would otherwise be silently ignored).
-  void checkKeys(const Json& node, const std::string& field, std::initializer_list<const char*> allowed) const {
+  void checkKeys(const Json& node, const std::string& field,
+                 std::initializer_list<const char*> allowed) const {
     if (!node.is_object()) fail(field, "expected an object, got " + describe(node));
     for (const auto& item : node.items()) {
-      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return item.key() == k; })) {
+      if (std::none_of(allowed.begin(), allowed.end(),
+                       [&](const char* k) { return item.key() == k; })) {
         std::string list;
         for (const char* k : allowed) list += std::string(list.empty() ? "" : ", ") + k;
         fail(join(field, item.key()), "unknown field (expected one of: " + list + ")");
@@ -45,7 +47,9 @@ class Reader {
   static std::string join(const std::string& field, const std::string& key) {
     return field.empty() ? key : field + "." + key;
   }
-  static std::string index(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
+  static std::string index(const std::string& field, size_t i) {
+    return field + "[" + std::to_string(i) + "]";
+  }
 
   static std::string describe(const Json& node) {
     std::string text = node.dump();
@@ -59,27 +63,32 @@ class Reader {
     if (!std::isfinite(v) || std::abs(v) > 1e30) fail(field, "number out of range: " + node.dump());
     return float(v);
   }
-  float number(const Json& parent, const std::string& field, const char* key, float fallback) const {
+  float number(const Json& parent, const std::string& field, const char* key,
+               float fallback) const {
     return parent.contains(key) ? number(parent[key], join(field, key)) : fallback;
   }
-  float positive(const Json& parent, const std::string& field, const char* key, float fallback) const {
+  float positive(const Json& parent, const std::string& field, const char* key,
+                 float fallback) const {
     const float v = number(parent, field, key, fallback);
     if (!(v > 0)) fail(join(field, key), "expected a positive number, got " + std::to_string(v));
     return v;
   }
-  int integer(const Json& parent, const std::string& field, const char* key, int fallback, int lo, int hi) const {
+  int integer(const Json& parent, const std::string& field, const char* key, int fallback, int lo,
+              int hi) const {
     if (!parent.contains(key)) return fallback;
     const Json& node = parent[key];
     const std::string f = join(field, key);
     if (!node.is_number_integer()) fail(f, "expected an integer, got " + describe(node));
     const long long v = node.get<long long>();
     if (v < lo || v > hi)
-      fail(f, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      fail(f, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " +
+                  std::to_string(hi) + "]");
     return int(v);
   }
   bool boolean(const Json& parent, const std::string& field, const char* key, bool fallback) const {
     if (!parent.contains(key)) return fallback;
-    if (!parent[key].is_boolean()) fail(join(field, key), "expected true or false, got " + describe(parent[key]));
+    if (!parent[key].is_boolean())
+      fail(join(field, key), "expected true or false, got " + describe(parent[key]));
     return parent[key].get<bool>();
   }
   std::string string(const Json& node, const std::string& field) const {
@@ -88,15 +97,18 @@ class Reader {
   }
   vec3 vector3(const Json& node, const std::string& field) const {
     if (node.is_number()) return vec3(number(node, field));  // a grey value
-    if (!node.is_array() || node.size() != 3) fail(field, "expected [x, y, z], got " + describe(node));
-    return {number(node[0], index(field, 0)), number(node[1], index(field, 1)), number(node[2], index(field, 2))};
+    if (!node.is_array() || node.size() != 3)
+      fail(field, "expected [x, y, z], got " + describe(node));
+    return {number(node[0], index(field, 0)), number(node[1], index(field, 1)),
+            number(node[2], index(field, 2))};
   }
   vec3 vector3(const Json& parent, const std::string& field, const char* key, vec3 fallback) const {
     return parent.contains(key) ? vector3(parent[key], join(field, key)) : fallback;
   }
   vec3 color(const Json& parent, const std::string& field, const char* key, vec3 fallback) const {
     const vec3 c = vector3(parent, field, key, fallback);
-    if (c.x < 0 || c.y < 0 || c.z < 0) fail(join(field, key), "colour components must not be negative");
+    if (c.x < 0 || c.y < 0 || c.z < 0)
+      fail(join(field, key), "colour components must not be negative");
     return c;
   }
   vec2 vector2(const Json& node, const std::string& field) const {
@@ -135,14 +147,17 @@ void readCamera(const Reader& r, const Json& node, Camera& c) {
   c.lookAt = r.vector3(node, f, "look_at", c.lookAt);
   c.up = r.vector3(node, f, "up", c.up);
   c.vfovDegrees = r.number(node, f, "fov", c.vfovDegrees);
-  if (!(c.vfovDegrees > 0 && c.vfovDegrees < 180)) r.fail(f + ".fov", "expected degrees in (0, 180)");
+  if (!(c.vfovDegrees > 0 && c.vfovDegrees < 180))
+    r.fail(f + ".fov", "expected degrees in (0, 180)");
   c.lensRadius = r.number(node, f, "lens_radius", c.lensRadius);
   if (c.lensRadius < 0) r.fail(f + ".lens_radius", "must not be negative");
   c.focusDistance = r.number(node, f, "focus_distance", c.focusDistance);
-  if (c.focusDistance < 0) r.fail(f + ".focus_distance", "must not be negative (0 = distance to look_at)");
+  if (c.focusDistance < 0)
+    r.fail(f + ".focus_distance", "must not be negative (0 = distance to look_at)");
   if (node.contains("shutter")) {
     const vec2 s = r.vector2(node["shutter"], f + ".shutter");
-    if (!(s.x >= 0 && s.y <= 1 && s.x <= s.y)) r.fail(f + ".shutter", "expected [open, close] with 0 <= open <= close <= 1");
+    if (!(s.x >= 0 && s.y <= 1 && s.x <= s.y))
+      r.fail(f + ".shutter", "expected [open, close] with 0 <= open <= close <= 1");
     c.shutterOpen = s.x;
     c.shutterClose = s.y;
   }
@@ -169,7 +184,8 @@ int readTexture(const Reader& r, const Json& node, const std::string& f, Scene& 
     t.kind = type == "checker" ? Texture::Kind::Checker : Texture::Kind::Stripes;
     if (node.contains("colors")) {
       const Json& colors = node["colors"];
-      if (!colors.is_array() || colors.size() != 2) r.fail(f + ".colors", "expected two colours [[r,g,b], [r,g,b]]");
+      if (!colors.is_array() || colors.size() != 2)
+        r.fail(f + ".colors", "expected two colours [[r,g,b], [r,g,b]]");
       t.color0 = r.vector3(colors[0], f + ".colors[0]");
       t.color1 = r.vector3(colors[1], f + ".colors[1]");
     }
@@ -187,7 +203,8 @@ int readTexture(const Reader& r, const Json& node, const std::string& f, Scene& 
 Material readMaterial(const Reader& r, const Json& node, const std::string& f,
                       const std::map<std::string, int>& textures) {
   r.checkKeys(node, f, {"type", "albedo", "color", "roughness", "ior", "emission", "radiance"});
-  if (!node.contains("type")) r.fail(f, "missing field 'type' (diffuse, conductor, mirror, dielectric, emissive)");
+  if (!node.contains("type"))
+    r.fail(f, "missing field 'type' (diffuse, conductor, mirror, dielectric, emissive)");
   const std::string type = r.string(node["type"], f + ".type");
   Material m;
   if (type == "diffuse") {
@@ -204,7 +221,8 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
     m.type = type == "mirror" ? Material::Type::Mirror : Material::Type::Conductor;
     m.albedo = r.color(node, f, "color", vec3(0.9f));
     m.roughness = r.number(node, f, "roughness", 0.3f);
-    if (!(m.roughness >= 0 && m.roughness <= 1)) r.fail(f + ".roughness", "expected a value in [0, 1]");
+    if (!(m.roughness >= 0 && m.roughness <= 1))
+      r.fail(f + ".roughness", "expected a value in [0, 1]");
   } else if (type == "dielectric") {
     m.type = Material::Type::Dielectric;
     m.ior = r.positive(node, f, "ior", 1.5f);
@@ -214,7 +232,8 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
     if (!node.contains("radiance")) r.fail(f, "missing field 'radiance' for an emissive material");
     m.emission = r.color(node, f, "radiance", vec3(0.0f));
   } else {
-    r.fail(f + ".type", "unknown material type '" + type + "' (expected diffuse, conductor, mirror, dielectric, emissive)");
+    r.fail(f + ".type", "unknown material type '" + type +
+                            "' (expected diffuse, conductor, mirror, dielectric, emissive)");
   }
   if (node.contains("emission")) m.emission = r.color(node, f, "emission", vec3(0.0f));
   return m;
@@ -225,9 +244,12 @@ mat4 readTransform(const Reader& r, const Json& node, const std::string& f) {
   mat4 m(1.0f);
   if (node.contains("matrix")) {
     const Json& a = node["matrix"];
-    if (!a.is_array() || a.size() != 16) r.fail(f + ".matrix", "expected 16 numbers (row-major 4x4)");
+    if (!a.is_array() || a.size() != 16)
+      r.fail(f + ".matrix", "expected 16 numbers (row-major 4x4)");
     for (int row = 0; row < 4; ++row)
-      for (int col = 0; col < 4; ++col) m[col][row] = r.number(a[size_t(4 * row + col)], Reader::index(f + ".matrix", size_t(4 * row + col)));
+      for (int col = 0; col < 4; ++col)
+        m[col][row] =
+            r.number(a[size_t(4 * row + col)], Reader::index(f + ".matrix", size_t(4 * row + col)));
     return m;
   }
   // Applied to the object in the order scale, rotate, translate.
@@ -235,8 +257,10 @@ mat4 readTransform(const Reader& r, const Json& node, const std::string& f) {
   if (node.contains("rotate")) {
     const Json& rot = node["rotate"];
     const std::string rf = f + ".rotate";
-    if (!rot.is_array() || rot.size() != 4) r.fail(rf, "expected [degrees, axis_x, axis_y, axis_z]");
-    const vec3 axis(r.number(rot[1], rf + "[1]"), r.number(rot[2], rf + "[2]"), r.number(rot[3], rf + "[3]"));
+    if (!rot.is_array() || rot.size() != 4)
+      r.fail(rf, "expected [degrees, axis_x, axis_y, axis_z]");
+    const vec3 axis(r.number(rot[1], rf + "[1]"), r.number(rot[2], rf + "[2]"),
+                    r.number(rot[3], rf + "[3]"));
     if (glm::length(axis) < 1e-8f) r.fail(rf, "rotation axis is zero");
     m = glm::rotate(m, glm::radians(r.number(rot[0], rf + "[0]")), glm::normalize(axis));
   }
@@ -266,15 +290,21 @@ Motion readMotion(const Reader& r, const Json& node, const std::string& f) {
 
 // Object-space geometry of one object: a built-in shape or a mesh file.
 Mesh readShape(const Reader& r, const Json& node, const std::string& f, const std::string& shape,
-               Scene& scene, std::vector<Material>& objMaterials, std::vector<std::string>& objMaps) {
+               Scene& scene, std::vector<Material>& objMaterials,
+               std::vector<std::string>& objMaps) {
   try {
-    if (shape == "sphere") return makeSphere(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 2048), r.integer(node, f, "rings", 48, 2, 1024));
+    if (shape == "sphere")
+      return makeSphere(r.positive(node, f, "radius", 1.0f),
+                        r.integer(node, f, "segments", 96, 3, 2048),
+                        r.integer(node, f, "rings", 48, 2, 1024));
     if (shape == "rectangle") {
       const vec2 size = node.contains("size") ? r.vector2(node["size"], f + ".size") : vec2(1.0f);
       if (!(size.x > 0 && size.y > 0)) r.fail(f + ".size", "must be positive");
       return makeRectangle(size);
     }
-    if (shape == "disk") return makeDisk(r.positive(node, f, "radius", 1.0f), r.integer(node, f, "segments", 96, 3, 2048));
+    if (shape == "disk")
+      return makeDisk(r.positive(node, f, "radius", 1.0f),
+                      r.integer(node, f, "segments", 96, 3, 2048));
     if (shape == "box") {
       const vec3 size = r.vector3(node, f, "size", vec3(1.0f));
       if (!(size.x > 0 && size.y > 0 && size.z > 0)) r.fail(f + ".size", "must be positive");
@@ -282,10 +312,13 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
     }
     if (shape == "cylinder")
       return makeCylinder(r.positive(node, f, "radius", 1.0f), r.positive(node, f, "height", 1.0f),
-                          r.integer(node, f, "segments", 96, 3, 2048), r.boolean(node, f, "capped", true));
+                          r.integer(node, f, "segments", 96, 3, 2048),
+                          r.boolean(node, f, "capped", true));
     if (shape == "torus")
-      return makeTorus(r.positive(node, f, "major_radius", 1.0f), r.positive(node, f, "minor_radius", 0.25f),
-                       r.integer(node, f, "segments", 128, 3, 2048), r.integer(node, f, "tube_segments", 48, 3, 1024));
+      return makeTorus(r.positive(node, f, "major_radius", 1.0f),
+                       r.positive(node, f, "minor_radius", 0.25f),
+                       r.integer(node, f, "segments", 128, 3, 2048),
+                       r.integer(node, f, "tube_segments", 48, 3, 1024));
     if (shape == "mesh") {
       const std::string path = r.filePath(node, f);
       std::string ext = fs::path(path).extension().string();
@@ -302,7 +335,8 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
   } catch (const std::invalid_argument& e) {
     r.fail(f, e.what());
   }
-  r.fail(f + ".shape", "unknown shape '" + shape + "' (expected sphere, rectangle, disk, box, cylinder, torus, mesh)");
+  r.fail(f + ".shape", "unknown shape '" + shape +
+                           "' (expected sphere, rectangle, disk, box, cylinder, torus, mesh)");
 }
 
 // Appends OBJ materials (and their map_Kd textures) to the scene; returns the id offset.
@@ -330,9 +364,10 @@ uint32_t appendObjMaterials(Scene& scene, const std::vector<Material>& materials
 
 void readObject(const Reader& r, const Json& node, const std::string& f, Scene& scene,
                 const std::map<std::string, int>& materials) {
-  r.checkKeys(node, f, {"name", "shape", "material", "transform", "motion", "flip_normals", "radius", "size",
-                        "segments", "rings", "height", "capped", "major_radius", "minor_radius",
-                        "tube_segments", "file"});
+  r.checkKeys(node, f,
+              {"name", "shape", "material", "transform", "motion", "flip_normals", "radius", "size",
+               "segments", "rings", "height", "capped", "major_radius", "minor_radius",
+               "tube_segments", "file"});
   if (!node.contains("shape")) r.fail(f, "missing field 'shape'");
   const std::string shape = r.string(node["shape"], f + ".shape");
   std::vector<Material> objMaterials;
@@ -352,16 +387,22 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
     r.fail(f, "missing field 'material'");
   }
   if (r.boolean(node, f, "flip_normals", false)) {
-    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+      std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
     for (vec3& n : mesh.normals) n = -n;
   }
-  const mat4 base = node.contains("transform") ? readTransform(r, node["transform"], f + ".transform") : mat4(1.0f);
-  const Motion motion = node.contains("motion") ? readMotion(r, node["motion"], f + ".motion") : Motion{};
-  if (std::abs(glm::determinant(glm::mat3(base))) < 1e-12f) r.fail(f + ".transform", "transform is singular");
+  const mat4 base = node.contains("transform")
+                        ? readTransform(r, node["transform"], f + ".transform")
+                        : mat4(1.0f);
+  const Motion motion =
+      node.contains("motion") ? readMotion(r, node["motion"], f + ".motion") : Motion{};
+  if (std::abs(glm::determinant(glm::mat3(base))) < 1e-12f)
+    r.fail(f + ".transform", "transform is singular");
   // Motion copies every vertex per time step: refuse what would not fit in memory.
   constexpr double kMaxVertexSteps = 5e7;
   if (double(mesh.vertexCount) * motionTimeSteps(motion) > kMaxVertexSteps)
-    r.fail(f + ".motion", std::to_string(mesh.vertexCount) + " vertices x " + std::to_string(motionTimeSteps(motion)) +
+    r.fail(f + ".motion", std::to_string(mesh.vertexCount) + " vertices x " +
+                              std::to_string(motionTimeSteps(motion)) +
                               " time steps is too large; use fewer segments or time_steps");
   scene.meshes.push_back(placeMesh(mesh, base, motion));
 }
@@ -429,7 +470,8 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
   if (!root.contains("objects") || !root["objects"].is_array() || root["objects"].empty())
     r.fail("objects", "expected a non-empty array of objects");
   const Json& objects = root["objects"];
-  for (size_t i = 0; i < objects.size(); ++i) readObject(r, objects[i], Reader::index("objects", i), scene, materials);
+  for (size_t i = 0; i < objects.size(); ++i)
+    readObject(r, objects[i], Reader::index("objects", i), scene, materials);
   return scene;
 }
 
@@ -451,7 +493,8 @@ Scene loadScene(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext == ".obj") return sceneFromObj(path);
-  if (ext != ".json") throw SceneError(path + ": unsupported scene format '" + ext + "' (expected .json or .obj)");
+  if (ext != ".json")
+    throw SceneError(path + ": unsupported scene format '" + ext + "' (expected .json or .obj)");
   const std::string text = readTextFile(path);
   return parseSceneJson(text, path, fs::path(path).parent_path().string());
 }

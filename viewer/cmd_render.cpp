@@ -29,8 +29,8 @@ struct RenderFlags {
   bool quiet = false;
 };
 
-void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene, const RenderResult& r,
-                int threads) {
+void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                const RenderResult& r, int threads) {
   nlohmann::json j;
   j["scene"] = flags.scene.scenePath;
   j["width"] = scene.settings.width;
@@ -56,14 +56,17 @@ void createParentDirectory(const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (ec) throw CommandError(path + ": cannot create directory '" + parent.string() + "': " + ec.message());
+  if (ec)
+    throw CommandError(path + ": cannot create directory '" + parent.string() +
+                       "': " + ec.message());
 }
 
 void checkImageExtension(const std::string& flag, const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".exr" && ext != ".pfm" && ext != ".png")
-    throw CommandError(flag + " " + path + ": unsupported image format '" + ext + "' (expected .exr, .pfm or .png)");
+    throw CommandError(flag + " " + path + ": unsupported image format '" + ext +
+                       "' (expected .exr, .pfm or .png)");
 }
 
 void run(const RenderFlags& flags) {
@@ -80,9 +83,11 @@ void run(const RenderFlags& flags) {
   options.seed = flags.seed;
   options.spp = s.settings.spp;
   options.threads = flags.threads;
-  const int threads = flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  ProgressBar bar("render " + std::to_string(s.settings.width) + "x" + std::to_string(s.settings.height) + " " +
-                  std::to_string(s.settings.spp) + " spp");
+  const int threads =
+      flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  ProgressBar bar("render " + std::to_string(s.settings.width) + "x" +
+                  std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
+                  " spp");
   if (!flags.quiet) options.progress = [&bar](double f) { bar.update(f); };
   const RenderResult result = renderImage(*prepared, options);
   bar.finish();
@@ -103,18 +108,25 @@ void run(const RenderFlags& flags) {
 
 void registerRenderCommand(CLI::App& app) {
   auto flags = std::make_shared<RenderFlags>();
-  CLI::App* c = app.add_subcommand("render", "Render a scene to an image (EXR/PFM linear, PNG tone-mapped sRGB)");
+  CLI::App* c = app.add_subcommand(
+      "render", "Render a scene to an image (EXR/PFM linear, PNG tone-mapped sRGB)");
   addSceneOptions(*c, flags->scene);
-  c->add_option("-o,--output", flags->output, "Output image: .exr or .pfm (linear float) or .png (sRGB, 8 bit)")
+  c->add_option("-o,--output", flags->output,
+                "Output image: .exr or .pfm (linear float) or .png (sRGB, 8 bit)")
       ->required();
-  c->add_option("--seed", flags->seed, "Random seed; the image is the same for a seed whatever the thread count");
-  c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  c->add_option("--exposure", flags->exposure, "Exposure in stops applied to PNG output")->check(CLI::Range(-40.0f, 40.0f));
+  c->add_option("--seed", flags->seed,
+                "Random seed; the image is the same for a seed whatever the thread count");
+  c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  c->add_option("--exposure", flags->exposure, "Exposure in stops applied to PNG output")
+      ->check(CLI::Range(-40.0f, 40.0f));
   const std::map<std::string, SamplerKind> samplers{{"ld", SamplerKind::LowDiscrepancy},
-                                                     {"independent", SamplerKind::Independent}};
-  c->add_option("--sampler", flags->sampler, "Sample generator: ld (scrambled (0,2)-sequence) or independent")
+                                                    {"independent", SamplerKind::Independent}};
+  c->add_option("--sampler", flags->sampler,
+                "Sample generator: ld (scrambled (0,2)-sequence) or independent")
       ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
-  c->add_option("--stats", flags->statsPath, "Write statistics (time, rays, Mrays/s, spp, NaN count) as JSON");
+  c->add_option("--stats", flags->statsPath,
+                "Write statistics (time, rays, Mrays/s, spp, NaN count) as JSON");
   c->add_option("--variance-out", flags->variancePath,
                 "Write the per-pixel variance of the mean (per channel) as an image, e.g. var.exr");
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");

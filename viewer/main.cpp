@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
     if (!known) {
-      const std::string message = "unknown command '" + std::string(argv[1]) + "' (expected one of: " + names + ")";
+      const std::string message =
+          "unknown command '" + std::string(argv[1]) + "' (expected one of: " + names + ")";
       return fail(message.c_str(), 2);
     }
   }

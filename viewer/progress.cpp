@@ -7,8 +7,10 @@
 namespace penumbra {
 
 ProgressBar::ProgressBar(std::string label)
-    : label_(std::move(label)), enabled_(isatty(STDERR_FILENO) != 0),
-      start_(std::chrono::steady_clock::now()), lastDraw_(start_) {}
+    : label_(std::move(label)),
+      enabled_(isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      lastDraw_(start_) {}
 
 ProgressBar::~ProgressBar() { finish(); }
 
@@ -33,10 +35,12 @@ void ProgressBar::finish() {
 void ProgressBar::draw(double fraction) {
   constexpr int kWidth = 40;
   const int filled = int(fraction * kWidth + 0.5);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   std::string bar(size_t(filled), '=');
   bar.resize(kWidth, ' ');
-  std::fprintf(stderr, "\r%s [%s] %3d%% %.1fs", label_.c_str(), bar.c_str(), int(fraction * 100 + 0.5), seconds);
+  std::fprintf(stderr, "\r%s [%s] %3d%% %.1fs", label_.c_str(), bar.c_str(),
+               int(fraction * 100 + 0.5), seconds);
   std::fflush(stderr);
 }
 

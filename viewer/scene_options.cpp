@@ -10,7 +10,8 @@
 namespace penumbra {
 
 namespace {
-std::vector<float> parseNumbers(const std::string& flag, const std::string& text, size_t count, char separator) {
+std::vector<float> parseNumbers(const std::string& flag, const std::string& text, size_t count,
+                                char separator) {
   std::vector<float> values;
   std::stringstream ss(text);
   std::string item;
@@ -39,22 +40,29 @@ vec3 parseVec3(const std::string& flag, const std::string& text) {
 }  // namespace
 
 void addSceneOptions(CLI::App& c, SceneOptions& o) {
-  c.add_option("scene", o.scenePath, "Scene file: a .json scene (docs/scene-format.md) or a .obj with its .mtl")
+  c.add_option("scene", o.scenePath,
+               "Scene file: a .json scene (docs/scene-format.md) or a .obj with its .mtl")
       ->required()
       ->check(CLI::ExistingFile);
-  c.add_option("--spp", o.spp, "Samples per pixel (default: the scene's render.spp)")->check(CLI::Range(1, 1 << 20));
+  c.add_option("--spp", o.spp, "Samples per pixel (default: the scene's render.spp)")
+      ->check(CLI::Range(1, 1 << 20));
   c.add_option("--size", o.size, "Image size WxH, e.g. 512x512 (default: the scene's render size)");
-  c.add_option("--max-depth", o.maxDepth, "Maximum path depth: 0 = emitters only, 1 = direct light, ...")
+  c.add_option("--max-depth", o.maxDepth,
+               "Maximum path depth: 0 = emitters only, 1 = direct light, ...")
       ->check(CLI::Range(0, 1024));
   c.add_option("--eye", o.eye, "Camera position x,y,z");
   c.add_option("--look-at", o.lookAt, "Point the camera looks at, x,y,z");
   c.add_option("--up", o.up, "Camera up vector x,y,z");
-  c.add_option("--fov", o.fov, "Vertical field of view in degrees")->check(CLI::Range(0.01f, 179.9f));
-  c.add_option("--lens-radius", o.lensRadius, "Thin-lens aperture radius in scene units; 0 = pinhole")
+  c.add_option("--fov", o.fov, "Vertical field of view in degrees")
+      ->check(CLI::Range(0.01f, 179.9f));
+  c.add_option("--lens-radius", o.lensRadius,
+               "Thin-lens aperture radius in scene units; 0 = pinhole")
       ->check(CLI::Range(0.0f, 1e6f));
-  c.add_option("--focus-distance", o.focusDistance, "Distance to the plane in focus; 0 = distance to the look-at point")
+  c.add_option("--focus-distance", o.focusDistance,
+               "Distance to the plane in focus; 0 = distance to the look-at point")
       ->check(CLI::Range(0.0f, 1e9f));
-  c.add_option("--shutter", o.shutter, "Shutter interval open,close in scene time [0,1], e.g. 0,1; 0,0 freezes motion");
+  c.add_option("--shutter", o.shutter,
+               "Shutter interval open,close in scene time [0,1], e.g. 0,1; 0,0 freezes motion");
 }
 
 Scene loadSceneWithOptions(const SceneOptions& o) {
@@ -63,7 +71,8 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
     const auto wh = parseNumbers("--size", o.size, 2, 'x');
     if (wh[0] < 1 || wh[1] < 1 || wh[0] > 16384 || wh[1] > 16384 || wh[0] != std::floor(wh[0]) ||
         wh[1] != std::floor(wh[1]))
-      throw CommandError("--size: expected whole numbers between 1 and 16384, got '" + o.size + "'");
+      throw CommandError("--size: expected whole numbers between 1 and 16384, got '" + o.size +
+                         "'");
     scene.settings.width = int(wh[0]);
     scene.settings.height = int(wh[1]);
   }
@@ -79,7 +88,8 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
   if (!o.shutter.empty()) {
     const auto s = parseNumbers("--shutter", o.shutter, 2, ',');
     if (!(s[0] >= 0 && s[1] <= 1 && s[0] <= s[1]))
-      throw CommandError("--shutter: expected open,close with 0 <= open <= close <= 1, got '" + o.shutter + "'");
+      throw CommandError("--shutter: expected open,close with 0 <= open <= close <= 1, got '" +
+                         o.shutter + "'");
     cam.shutterOpen = s[0];
     cam.shutterClose = s[1];
   }

@@ -20,7 +20,8 @@ struct SceneOptions {
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
-// Loads the scene and applies the overrides; throws CommandError/SceneError naming the flag or file.
+// Loads the scene and applies the overrides; throws CommandError/SceneError naming the flag or
+// file.
 Scene loadSceneWithOptions(const SceneOptions& options);
 
 }  // namespace penumbra

@@ -49,6 +49,12 @@ done
 "$penumbra" render "$cornell" --size 24x24 --spp 4 --seed 9 --threads 2 -o "$work/t2.pfm" -q
 cmp -s "$work/t1.pfm" "$work/t2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the image"; failures=$((failures + 1)); }
 
+# An OBJ with an emissive MTL material is a scene; camera from flags.
+printf 'mtllib l.mtl\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -.5 2 -.5\nv .5 2 -.5\nv .5 2 .5\nv -.5 2 .5\nusemtl floor\nf 1 4 3\nf 1 3 2\nusemtl lamp\nf 5 6 7\nf 5 7 8\n' >"$work/l.obj"
+printf 'newmtl floor\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n' >"$work/l.mtl"
+expect_ok "render an OBJ with camera flags" "$penumbra" render "$work/l.obj" --eye 0,1.5,5 --look-at 0,0.5,0 --fov 45 --size 32x32 --spp 4 -o "$work/l.pfm" --stats "$work/l.json" -q
+grep -q '"nan_samples": 0' "$work/l.json" && passes=$((passes + 1)) || { echo "FAIL: OBJ render stats"; failures=$((failures + 1)); }
+
 expect_fail "unknown flag" "--frobnicate" "$penumbra" render "$cornell" -o "$work/x.png" --frobnicate
 expect_fail "bad spp" "--spp" "$penumbra" render "$cornell" -o "$work/x.png" --spp zero
 expect_fail "spp out of range" "--spp" "$penumbra" render "$cornell" -o "$work/x.png" --spp 0

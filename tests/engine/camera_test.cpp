@@ -2,9 +2,9 @@
 // meet on the focus plane; the shutter maps sample time to scene time.
 #include "engine/camera.h"
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <gtest/gtest.h>
 
 namespace penumbra {
 namespace {
@@ -48,7 +48,8 @@ TEST(Camera, ThinLensRaysConvergeOnTheFocusPlane) {
       for (float v : {0.1f, 0.5f, 0.9f}) {
         const Ray r = generateRay(f, CameraSample{x, y, u, v, 0});
         // Advance to the plane at distance focusDistance along the view axis.
-        const float t = (c.focusDistance - glm::dot(r.origin - c.eye, f.forward)) / glm::dot(r.direction, f.forward);
+        const float t = (c.focusDistance - glm::dot(r.origin - c.eye, f.forward)) /
+                        glm::dot(r.direction, f.forward);
         const vec3 p = r.origin + t * r.direction;
         if (first) meeting = p, first = false;
         spread = std::max(spread, glm::length(p - meeting));

@@ -46,7 +46,8 @@ TEST(Integrator, ClosedFurnaceConvergesToEmissionOverOneMinusAlbedo) {
                  "segments": 32, "rings": 16}]})");
   const RenderResult r = renderScene(std::move(scene), 64);
   const ImageMean m = imageMean(r);
-  EXPECT_NEAR(m.mean, 1.0, std::max(4 * m.standardError, 1e-3)) << "standard error " << m.standardError;
+  EXPECT_NEAR(m.mean, 1.0, std::max(4 * m.standardError, 1e-3))
+      << "standard error " << m.standardError;
   EXPECT_LT(m.standardError, 0.01);
   EXPECT_EQ(r.nonFiniteSamples, 0u);
 }
@@ -117,7 +118,8 @@ TEST(Integrator, NonFiniteSamplesAreCountedAndKeptOutOfTheImage) {
   const RenderResult r = renderScene(std::move(scene), 16);
   EXPECT_GT(r.nonFiniteSamples, 0u);
   EXPECT_LT(r.nonFiniteSamples, r.samples) << "the background around the square stays valid";
-  for (const vec3& p : r.image.pixels) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const vec3& p : r.image.pixels)
+    EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
 }
 
 }  // namespace

@@ -102,7 +102,8 @@ TEST(Render, CornellMatchesTheStoredReference) {
   Image zImage(reference.width, reference.height);
   for (size_t i = 0; i < reference.pixels.size(); ++i) {
     const double d = luminance(r.image.pixels[i]) - luminance(reference.pixels[i]);
-    const double v = luminance(r.varianceOfMean.pixels[i]) + luminance(referenceVariance.pixels[i]) + 1e-12;
+    const double v =
+        luminance(r.varianceOfMean.pixels[i]) + luminance(referenceVariance.pixels[i]) + 1e-12;
     const double z = d / std::sqrt(v);
     const double p = std::erfc(std::abs(z) / std::sqrt(2.0));
     zImage.pixels[i] = vec3(float(std::abs(z)));
@@ -117,7 +118,8 @@ TEST(Render, CornellMatchesTheStoredReference) {
     writeImage(test::outputPath("cornell_reference.exr"), reference);
     double maxZ = 0;
     writeImage(test::outputPath("cornell_zscore.png"), falseColor(zImage, 6.0f));
-    writeImage(test::outputPath("cornell_relerr.png"), falseColor(errorImage(r.image, reference, maxZ), float(maxZ)));
+    writeImage(test::outputPath("cornell_relerr.png"),
+               falseColor(errorImage(r.image, reference, maxZ), float(maxZ)));
   }
   EXPECT_EQ(failures, 0) << "pixels failing the z-test (images in " << test::outputPath("") << ")";
   EXPECT_LT(std::abs(meanZ), 2.576) << "image mean differs: z = " << meanZ;

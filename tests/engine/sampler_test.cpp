@@ -98,7 +98,8 @@ TEST(Sampler, PermutationIsABijection) {
 TEST(Sampler, SameSeedSameSamplesDifferentSeedDifferentSamples) {
   for (SamplerKind kind : {SamplerKind::LowDiscrepancy, SamplerKind::Independent}) {
     PixelSampler a(kind, 5, 16), b(kind, 5, 16), c(kind, 6, 16);
-    const PixelPoints pa = drawPixel(a, 9, 9, 0, 16), pb = drawPixel(b, 9, 9, 0, 16), pc = drawPixel(c, 9, 9, 0, 16);
+    const PixelPoints pa = drawPixel(a, 9, 9, 0, 16), pb = drawPixel(b, 9, 9, 0, 16),
+                      pc = drawPixel(c, 9, 9, 0, 16);
     EXPECT_EQ(pa.image, pb.image);
     EXPECT_EQ(pa.integrator, pb.integrator);
     EXPECT_NE(pa.image, pc.image);

@@ -72,17 +72,22 @@ TEST(SceneLoader, EachMalformedFieldIsNamed) {
       {R"("shutter": [0.2, 0.8])", R"("shutter": [0.9, 0.1])", "camera.shutter"},
       {R"("look_at": [0, 0, 0])", R"("look_at": [0, 1, 4])", "camera: eye and look_at coincide"},
       {R"("roughness": 0.4)", R"("roughness": 1.4)", "materials.metal.roughness"},
-      {R"("type": "conductor")", R"("type": "plastic")", "materials.metal.type: unknown material type 'plastic'"},
-      {R"("albedo": "check")", R"("albedo": "chekc")", "materials.floor.albedo: unknown texture 'chekc'"},
+      {R"("type": "conductor")", R"("type": "plastic")",
+       "materials.metal.type: unknown material type 'plastic'"},
+      {R"("albedo": "check")", R"("albedo": "chekc")",
+       "materials.floor.albedo: unknown texture 'chekc'"},
       {R"("ior": 1.33)", R"("ior": 0)", "materials.glass.ior: expected a positive number"},
-      {R"("material": "metal")", R"("material": "chrome")", "objects[1].material: unknown material 'chrome'"},
+      {R"("material": "metal")", R"("material": "chrome")",
+       "objects[1].material: unknown material 'chrome'"},
       {R"("radius": 0.5)", R"("radius": -0.5)", "objects[1].radius: expected a positive number"},
       {R"("radius": 0.5)", R"("radus": 0.5)", "objects[1].radus: unknown field"},
       {R"("shape": "torus")", R"("shape": "teapot")", "objects[2].shape: unknown shape 'teapot'"},
-      {R"("degrees": 90)", R"("degrees": "fast")", "objects[1].motion.rotate.degrees: expected a number"},
+      {R"("degrees": 90)", R"("degrees": "fast")",
+       "objects[1].motion.rotate.degrees: expected a number"},
       {R"("translate": [1, 0.5, 0])", R"("translate": [1, 0.5, 1e999])", "test.json"},
       {R"("scale": [4, 4])", R"("scale": [4, -4])", "textures.check.scale"},
-      {R"("type": "checker")", R"("type": "image", "file": "nowhere.png")", "textures.check.file: cannot open"},
+      {R"("type": "checker")", R"("type": "image", "file": "nowhere.png")",
+       "textures.check.file: cannot open"},
       {R"("background": [0.1, 0.2, 0.3])", R"("background": [0.1, -0.2, 0.3])", "background"},
       {R"("render")", R"("rendr")", "rendr: unknown field"},
   };
@@ -94,7 +99,8 @@ TEST(SceneLoader, EachMalformedFieldIsNamed) {
     } catch (const SceneError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find("test.json"), std::string::npos) << what;
-      EXPECT_NE(what.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << what;
+      EXPECT_NE(what.find(c.expected), std::string::npos)
+          << "expected '" << c.expected << "' in: " << what;
     }
   }
 }
@@ -119,13 +125,15 @@ TEST(SceneLoader, MissingFilesAreNamed) {
         }
       },
       SceneError);
-  const std::string text = withReplaced(kValid, R"("shape": "torus", "major_radius": 1, "minor_radius": 0.2)",
-                                        R"("shape": "mesh", "file": "missing.ply")");
+  const std::string text =
+      withReplaced(kValid, R"("shape": "torus", "major_radius": 1, "minor_radius": 0.2)",
+                   R"("shape": "mesh", "file": "missing.ply")");
   try {
     parseSceneJson(text, "test.json", "/tmp");
     FAIL() << "no error";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("objects[2].file: cannot open '/tmp/missing.ply'"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("objects[2].file: cannot open '/tmp/missing.ply'"),
+              std::string::npos)
         << e.what();
   }
 }
