@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <memory>
 #include <thread>
 
@@ -25,8 +24,11 @@ struct RenderFlags {
   uint64_t seed = 0;
   int threads = 0;
   float exposure = 0;
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
+  std::string samplerName = "ld";
   bool quiet = false;
+  SamplerKind sampler() const {
+    return samplerName == "independent" ? SamplerKind::Independent : SamplerKind::LowDiscrepancy;
+  }
 };
 
 void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
@@ -39,7 +41,7 @@ void writeStats(const std::string& path, const RenderFlags& flags, const Scene& 
   j["seed"] = flags.seed;
   j["threads"] = threads;
   j["max_depth"] = scene.settings.maxDepth;
-  j["sampler"] = flags.sampler == SamplerKind::LowDiscrepancy ? "ld" : "independent";
+  j["sampler"] = flags.samplerName;
   j["time_seconds"] = r.seconds;
   j["rays"] = r.rays;
   j["mrays_per_second"] = r.seconds > 0 ? double(r.rays) / r.seconds * 1e-6 : 0.0;
@@ -79,7 +81,7 @@ void run(const RenderFlags& flags) {
   auto prepared = prepareScene(std::move(scene));
   const Scene& s = prepared->scene;
   RenderOptions options;
-  options.sampler = flags.sampler;
+  options.sampler = flags.sampler();
   options.seed = flags.seed;
   options.spp = s.settings.spp;
   options.threads = flags.threads;
@@ -120,11 +122,9 @@ void registerRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   c->add_option("--exposure", flags->exposure, "Exposure in stops applied to PNG output")
       ->check(CLI::Range(-40.0f, 40.0f));
-  const std::map<std::string, SamplerKind> samplers{{"ld", SamplerKind::LowDiscrepancy},
-                                                    {"independent", SamplerKind::Independent}};
-  c->add_option("--sampler", flags->sampler,
-                "Sample generator: ld (scrambled (0,2)-sequence) or independent")
-      ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
+  c->add_option("--sampler", flags->samplerName,
+                "Sample generator: ld (scrambled (0,2)-sequence, default) or independent")
+      ->check(CLI::IsMember({"ld", "independent"}));
   c->add_option("--stats", flags->statsPath,
                 "Write statistics (time, rays, Mrays/s, spp, NaN count) as JSON");
   c->add_option("--variance-out", flags->variancePath,
