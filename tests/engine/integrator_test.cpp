@@ -64,6 +64,20 @@ TEST(Integrator, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
   EXPECT_NEAR(m.mean, 0.8, std::max(4 * m.standardError, 2e-3));
 }
 
+TEST(Integrator, GlassSphereUnderUniformSkyIsInvisible) {
+  // Smooth dielectric conserves energy, and the 1/eta^2 radiance scaling on entering is
+  // undone on leaving: in a uniform environment the sphere has the sky's radiance.
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8, "max_depth": 64},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 16},
+    "background": [1, 1, 1],
+    "materials": {"glass": {"type": "dielectric", "ior": 1.5}},
+    "objects": [{"shape": "sphere", "radius": 1, "material": "glass"}]})");
+  const RenderResult r = renderScene(std::move(scene), 64);
+  const ImageMean m = imageMean(r);
+  EXPECT_NEAR(m.mean, 1.0, std::max(4 * m.standardError, 5e-3));
+}
+
 TEST(Integrator, PlaneUnderDiskLightMatchesTheFormFactor) {
   // A Lambertian plane point below a disk of radius R at height h: L = rho Le R^2 / (h^2 + R^2).
   const double rho = 0.5, le = 4.0, radius = 0.5, h = 2.0;
