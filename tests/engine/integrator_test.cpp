@@ -52,29 +52,27 @@ TEST(Integrator, ClosedFurnaceConvergesToEmissionOverOneMinusAlbedo) {
   EXPECT_EQ(r.nonFiniteSamples, 0u);
 }
 
-TEST(Integrator, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
+// Mean of a unit sphere of `material` under a uniform white sky (fov 16 shows all of it).
+ImageMean sphereUnderWhiteSky(const std::string& material, int spp, int fovDegrees) {
   Scene scene = sceneFrom(R"({
-    "render": {"width": 8, "height": 8, "max_depth": 50},
+    "render": {"width": 8, "height": 8, "max_depth": 64},
     "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 4},
     "background": [1, 1, 1],
-    "materials": {"ball": {"type": "diffuse", "albedo": 0.8}},
+    "materials": {"ball": )" +
+                          material + R"(},
     "objects": [{"shape": "sphere", "radius": 1, "material": "ball"}]})");
-  const RenderResult r = renderScene(std::move(scene), 256);
-  const ImageMean m = imageMean(r);
+  return imageMean(renderScene(std::move(scene), spp));
+}
+
+TEST(Integrator, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
+  const ImageMean m = sphereUnderWhiteSky(R"({"type": "diffuse", "albedo": 0.8})", 256, 4);
   EXPECT_NEAR(m.mean, 0.8, std::max(4 * m.standardError, 2e-3));
 }
 
 TEST(Integrator, GlassSphereUnderUniformSkyIsInvisible) {
   // Smooth dielectric conserves energy, and the 1/eta^2 radiance scaling on entering is
   // undone on leaving: in a uniform environment the sphere has the sky's radiance.
-  Scene scene = sceneFrom(R"({
-    "render": {"width": 8, "height": 8, "max_depth": 64},
-    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 16},
-    "background": [1, 1, 1],
-    "materials": {"glass": {"type": "dielectric", "ior": 1.5}},
-    "objects": [{"shape": "sphere", "radius": 1, "material": "glass"}]})");
-  const RenderResult r = renderScene(std::move(scene), 64);
-  const ImageMean m = imageMean(r);
+  const ImageMean m = sphereUnderWhiteSky(R"({"type": "dielectric", "ior": 1.5})", 64, 16);
   EXPECT_NEAR(m.mean, 1.0, std::max(4 * m.standardError, 5e-3));
 }
 
