@@ -39,12 +39,6 @@ const char* const kWritableFormats = ".exr, .pfm, .png";
   throw ImageIoError(path + ": " + reason);
 }
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 std::string unsupportedFormat(const std::string& ext, const char* supported) {
   if (ext.empty())
     return std::string("no file extension to choose a format by (supported: ") + supported + ")";
@@ -322,7 +316,7 @@ void writeFileAtomically(const std::string& path,
 }
 
 Image readImage(const std::string& path) {
-  const std::string ext = lowerExtension(path);
+  const std::string ext = lowercaseExtension(path);
   if (ext == ".exr") return readExr(path);
   if (ext == ".pfm") return readPfm(path);
   if (ext == ".hdr") return readStb(path, true);
@@ -331,10 +325,21 @@ Image readImage(const std::string& path) {
   fail(path, unsupportedFormat(ext, kReadableFormats));
 }
 
-void writeImage(const std::string& path, const Image& image, float exposureStops) {
-  const std::string ext = lowerExtension(path);
+std::string lowercaseExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+void checkWritableImagePath(const std::string& path) {
+  const std::string ext = lowercaseExtension(path);
   if (ext != ".exr" && ext != ".pfm" && ext != ".png")
     fail(path, unsupportedFormat(ext, kWritableFormats));
+}
+
+void writeImage(const std::string& path, const Image& image, float exposureStops) {
+  checkWritableImagePath(path);
+  const std::string ext = lowercaseExtension(path);
   if (image.width <= 0 || image.height <= 0)
     fail(path, "cannot write an empty image (" + std::to_string(image.width) + "x" +
                    std::to_string(image.height) + ")");

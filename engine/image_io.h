@@ -32,6 +32,11 @@ Image readImage(const std::string& path);
 // The exposure only affects PNG: the HDR formats store the radiance unchanged.
 // Throws ImageIoError for an empty image, an unsupported extension or an I/O failure.
 void writeImage(const std::string& path, const Image& image, float exposureStops = 0.0f);
+// Throws the ImageIoError writeImage would give for an unsupported extension, so a command
+// can reject a bad output name before spending minutes on a render.
+void checkWritableImagePath(const std::string& path);
+// The file extension of `path`, lower-cased, with its dot (".exr"); empty if none.
+std::string lowercaseExtension(const std::string& path);
 
 // One named float plane of width*height values, top row first.
 using ExrChannel = std::pair<std::string, std::vector<float>>;

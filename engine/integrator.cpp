@@ -38,16 +38,6 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   return b;
 }
 
-template <typename T>
-T interpolateStep(const std::vector<T>& values, const Mesh& mesh, uint32_t vertex, float time) {
-  if (mesh.timeSteps <= 1) return values[vertex];
-  const float f = std::clamp(time, 0.0f, 1.0f) * float(mesh.timeSteps - 1);
-  const int step = std::min(int(f), mesh.timeSteps - 2);
-  const float w = f - float(step);
-  const size_t base = size_t(step) * mesh.vertexCount + vertex;
-  return (1 - w) * values[base] + w * values[base + mesh.vertexCount];
-}
-
 // Per bounce: light choice (1D), light point (2D), BSDF direction (2D), lobe (1D), roulette (1D).
 }  // namespace
 
@@ -80,9 +70,9 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
   s.geometricNormal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
   s.shadingNormal = s.geometricNormal;
   if (!mesh.normals.empty()) {
-    const vec3 n = b0 * interpolateStep(mesh.normals, mesh, idx[0], time) +
-                   b1 * interpolateStep(mesh.normals, mesh, idx[1], time) +
-                   b2 * interpolateStep(mesh.normals, mesh, idx[2], time);
+    const vec3 n = b0 * vertexAtTime(mesh.normals, mesh, idx[0], time) +
+                   b1 * vertexAtTime(mesh.normals, mesh, idx[1], time) +
+                   b2 * vertexAtTime(mesh.normals, mesh, idx[2], time);
     const float len = glm::length(n);
     if (len > 1e-6f) {
       s.shadingNormal = n / len;

@@ -22,20 +22,9 @@ float emitterWeight(const Scene& scene, const Mesh& mesh, uint32_t primId) {
 void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1,
                        vec3& p2) {
   const uint32_t* idx = &mesh.indices[3 * size_t(primId)];
-  if (mesh.timeSteps <= 1) {
-    p0 = mesh.positions[idx[0]];
-    p1 = mesh.positions[idx[1]];
-    p2 = mesh.positions[idx[2]];
-    return;
-  }
-  const float f = std::clamp(time, 0.0f, 1.0f) * float(mesh.timeSteps - 1);
-  const int step = std::min(int(f), mesh.timeSteps - 2);
-  const float w = f - float(step);
-  const vec3* a = &mesh.positions[size_t(step) * mesh.vertexCount];
-  const vec3* b = a + mesh.vertexCount;
-  p0 = (1 - w) * a[idx[0]] + w * b[idx[0]];
-  p1 = (1 - w) * a[idx[1]] + w * b[idx[1]];
-  p2 = (1 - w) * a[idx[2]] + w * b[idx[2]];
+  p0 = vertexAtTime(mesh.positions, mesh, idx[0], time);
+  p1 = vertexAtTime(mesh.positions, mesh, idx[1], time);
+  p2 = vertexAtTime(mesh.positions, mesh, idx[2], time);
 }
 
 LightSampler buildLightSampler(const Scene& scene) {

@@ -11,6 +11,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -81,6 +82,18 @@ struct Scene {
   Camera camera;
   RenderSettings settings;
 };
+
+// A per-vertex attribute (position or normal) of a mesh at scene time t in [0,1],
+// interpolated linearly between time steps as Embree does.
+template <typename T>
+T vertexAtTime(const std::vector<T>& values, const Mesh& mesh, uint32_t vertex, float time) {
+  if (mesh.timeSteps <= 1) return values[vertex];
+  const float f = std::clamp(time, 0.0f, 1.0f) * float(mesh.timeSteps - 1);
+  const int step = std::min(int(f), mesh.timeSteps - 2);
+  const float w = f - float(step);
+  const size_t base = size_t(step) * mesh.vertexCount + vertex;
+  return (1 - w) * values[base] + w * values[base + mesh.vertexCount];
+}
 
 // Axis-aligned bounds of every vertex of every step.
 void sceneBounds(const Scene& scene, vec3& lo, vec3& hi);

@@ -321,8 +321,7 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
                        r.integer(node, f, "tube_segments", 48, 3, 1024));
     if (shape == "mesh") {
       const std::string path = r.filePath(node, f);
-      std::string ext = fs::path(path).extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+      const std::string ext = lowercaseExtension(path);
       if (ext == ".ply") return loadPly(path);
       if (ext == ".obj") {
         ObjData obj = loadObj(path);
@@ -490,8 +489,7 @@ Scene sceneFromObj(const std::string& path) {
 }
 
 Scene loadScene(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const std::string ext = lowercaseExtension(path);
   if (ext == ".obj") return sceneFromObj(path);
   if (ext != ".json")
     throw SceneError(path + ": unsupported scene format '" + ext + "' (expected .json or .obj)");

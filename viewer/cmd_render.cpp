@@ -8,7 +8,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -64,11 +63,11 @@ void createParentDirectory(const std::string& path) {
 }
 
 void checkImageExtension(const std::string& flag, const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".exr" && ext != ".pfm" && ext != ".png")
-    throw CommandError(flag + " " + path + ": unsupported image format '" + ext +
-                       "' (expected .exr, .pfm or .png)");
+  try {
+    checkWritableImagePath(path);
+  } catch (const ImageIoError& e) {
+    throw CommandError(flag + " " + e.what());
+  }
 }
 
 void run(const RenderFlags& flags) {
