@@ -1,25 +1,32 @@
 // `penumbra render`: renders a scene to an image file, with optional statistics.
+#include "engine/bp_method.h"
+#include "engine/snapshot_io.h"
 #include "engine/image_io.h"
 #include "engine/integrator.h"
 #include "engine/render.h"
 #include "viewer/commands.h"
+#include "viewer/method_options.h"
 #include "viewer/progress.h"
 #include "viewer/scene_options.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <thread>
 
+#include <tbb/global_control.h>
+
 namespace penumbra {
 
 namespace {
 struct RenderFlags {
   SceneOptions scene;
-  std::string output, statsPath, variancePath;
+  MethodOptions method;
+  std::string output, statsPath, variancePath, rawPath, aovDir;
   uint64_t seed = 0;
   int threads = 0;
   float exposure = 0;
@@ -70,40 +77,167 @@ void checkImageExtension(const std::string& flag, const std::string& path) {
   }
 }
 
-void run(const RenderFlags& flags) {
+void prepareOutputs(const RenderFlags& flags) {
   // Fail on a bad output name before spending minutes rendering.
   checkImageExtension("--output", flags.output);
   if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
-  for (const std::string* path : {&flags.output, &flags.statsPath, &flags.variancePath})
+  if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
+  if (!flags.method.isBp()) {
+    if (!flags.rawPath.empty()) throw CommandError("--raw-out needs --method bp");
+    if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs --method bp");
+  } else if (!flags.variancePath.empty()) {
+    throw CommandError("--variance-out is only available with --method ld");
+  }
+  for (const std::string* path :
+       {&flags.output, &flags.statsPath, &flags.variancePath, &flags.rawPath})
     if (!path->empty()) createParentDirectory(*path);
-  Scene scene = loadSceneWithOptions(flags.scene);
-  auto prepared = prepareScene(std::move(scene));
-  const Scene& s = prepared->scene;
+}
+
+void printSummary(const RenderFlags& flags, const Scene& s, double seconds, uint64_t rays,
+                  const std::string& extra) {
+  if (flags.quiet) return;
+  std::printf("%s: %dx%d, %d spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(),
+              s.settings.width, s.settings.height, s.settings.spp, extra.c_str(), seconds,
+              seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0);
+}
+
+void warnNonFinite(uint64_t count) {
+  if (count > 0)
+    std::fprintf(stderr, "penumbra render: warning: %llu NaN or infinite samples were dropped\n",
+                 static_cast<unsigned long long>(count));
+}
+
+void runLd(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
+  const Scene& s = prepared.scene;
   RenderOptions options;
   options.sampler = flags.sampler();
   options.seed = flags.seed;
   options.spp = s.settings.spp;
   options.threads = flags.threads;
-  const int threads =
-      flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   ProgressBar bar("render " + std::to_string(s.settings.width) + "x" +
                   std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
                   " spp");
   if (!flags.quiet) options.progress = [&bar](double f) { bar.update(f); };
-  const RenderResult result = renderImage(*prepared, options);
+  const RenderResult result = renderImage(prepared, options);
   bar.finish();
 
   writeImage(flags.output, result.image, flags.exposure);
   if (!flags.variancePath.empty()) writeImage(flags.variancePath, result.varianceOfMean);
   if (!flags.statsPath.empty()) writeStats(flags.statsPath, flags, s, result, threads);
-  if (!flags.quiet) {
-    std::printf("%s: %dx%d, %d spp, %.2f s, %.2f Mrays/s\n", flags.output.c_str(), s.settings.width,
-                s.settings.height, s.settings.spp, result.seconds,
-                result.seconds > 0 ? double(result.rays) / result.seconds * 1e-6 : 0.0);
+  printSummary(flags, s, result.seconds, result.rays, "");
+  warnNonFinite(result.nonFiniteSamples);
+}
+
+void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                  const BpConfig& config, const Snapshot& snap,
+                  const std::vector<nlohmann::json>& rounds, size_t memoryBytes, int threads) {
+  const double pixels = double(snap.width) * snap.height;
+  nlohmann::json j;
+  j["scene"] = flags.scene.scenePath;
+  j["method"] = "bp";
+  j["width"] = snap.width;
+  j["height"] = snap.height;
+  j["spp"] = scene.settings.spp;
+  j["seed"] = flags.seed;
+  j["threads"] = threads;
+  j["max_depth"] = scene.settings.maxDepth;
+  j["sampler"] = flags.samplerName;
+  j["time_seconds"] = snap.seconds;
+  j["rays"] = snap.rays;
+  j["mrays_per_second"] = snap.seconds > 0 ? double(snap.rays) / snap.seconds * 1e-6 : 0.0;
+  j["samples"] = snap.keptSamples;
+  j["kept_spp"] = double(snap.keptSamples) / pixels;
+  j["traced_spp"] = double(snap.tracedSamples) / pixels;
+  j["coarse_spp"] = config.effectiveCoarseSpp();
+  j["rounds"] = snap.round;
+  j["nan_samples"] = snap.nonFiniteSamples;
+  j["rejected_samples"] = snap.rejectedSamples;
+  j["phases"] = {{"trace", snap.times.trace},
+                 {"train", snap.times.train},
+                 {"select", snap.times.select},
+                 {"reconstruct", snap.times.reconstruct}};
+  j["adaptive_overhead"] =
+      snap.times.total() > 0
+          ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
+          : 0.0;
+  j["training_gflops"] = snap.trainingKernelSeconds > 0
+                             ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
+                             : 0.0;
+  j["training_simd"] = networkSimdName();
+  j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
+  // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
+  // filtering are, so both histograms are part of every run's record.
+  j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
+  std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
+  for (uint8_t a : snap.alphaIndex)
+    if (a < alphaCounts.size()) ++alphaCounts[a];
+  j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
+  j["per_round"] = rounds;
+  writeFileAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw ImageIoError(path + ": cannot write");
+  });
+}
+
+void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
+  const Scene& s = prepared.scene;
+  const BpConfig config = flags.method.bpConfig(s.settings.spp, flags.seed, flags.sampler());
+  std::unique_ptr<tbb::global_control> limit;
+  if (flags.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  size_t(flags.threads));
+  auto method = makeBpMethod(prepared, config);
+  ProgressBar bar("bp " + std::to_string(s.settings.width) + "x" +
+                  std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
+                  " spp");
+  std::vector<nlohmann::json> rounds;
+  const double pixels = double(s.settings.width) * s.settings.height;
+  const bool wantRounds = !flags.statsPath.empty();
+  while (!method->done()) {
+    method->runRound(nullptr);
+    if (wantRounds) {
+      // Per-round records need the bias of that round; a snapshot costs one filter pass.
+      const auto snap = method->snapshot();
+      size_t difficult = 0;
+      for (size_t p = 0; p < snap->bias.size(); ++p)
+        difficult += snap->bias[p] > config.psi &&
+                     snap->networkError[p] > config.network.errorThreshold;
+      rounds.push_back({{"round", snap->round},
+                        {"kept_spp", double(snap->keptSamples) / pixels},
+                        {"traced_spp", double(snap->tracedSamples) / pixels},
+                        {"pixels_sampled",
+                         std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+                        {"difficult_pixels", difficult},
+                        {"seconds", snap->seconds}});
+    }
+    if (!flags.quiet) bar.update(std::min(1.0, double(method->roundsDone()) / (config.maxRounds + 1)));
   }
-  if (result.nonFiniteSamples > 0)
-    std::fprintf(stderr, "penumbra render: warning: %llu NaN or infinite samples were dropped\n",
-                 static_cast<unsigned long long>(result.nonFiniteSamples));
+  const auto snap = method->snapshot();
+  bar.finish();
+
+  writeImage(flags.output, config.reconstruct ? snap->reconstructed : snap->raw, flags.exposure);
+  if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
+  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, config.filter.alphas);
+  if (!flags.statsPath.empty())
+    writeBpStats(flags.statsPath, flags, s, config, *snap, rounds, method->memoryBytes(), threads);
+  char extra[96];
+  std::snprintf(extra, sizeof extra, " (%.1f traced), %d rounds",
+                double(snap->tracedSamples) / pixels, snap->round);
+  printSummary(flags, s, snap->seconds, snap->rays, extra);
+  warnNonFinite(snap->nonFiniteSamples);
+}
+
+void run(const RenderFlags& flags) {
+  prepareOutputs(flags);
+  Scene scene = loadSceneWithOptions(flags.scene);
+  auto prepared = prepareScene(std::move(scene));
+  const int threads =
+      flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  if (flags.method.isBp())
+    runBp(flags, *prepared, threads);
+  else
+    runLd(flags, *prepared, threads);
 }
 }  // namespace
 
@@ -125,10 +259,17 @@ void registerRenderCommand(CLI::App& app) {
                 "Sample generator: ld (scrambled (0,2)-sequence, default) or independent")
       ->check(CLI::IsMember({"ld", "independent"}));
   c->add_option("--stats", flags->statsPath,
-                "Write statistics (time, rays, Mrays/s, spp, NaN count) as JSON");
+                "Write statistics (time, rays, Mrays/s, spp, NaN count; with --method bp also "
+                "per-phase times, rounds, kept and traced spp, bias and alpha histograms) as JSON");
   c->add_option("--variance-out", flags->variancePath,
                 "Write the per-pixel variance of the mean (per channel) as an image, e.g. var.exr");
+  c->add_option("--raw-out", flags->rawPath,
+                "BP method: also write the raw estimate (before reconstruction) to this image");
+  c->add_option("--aov-dir", flags->aovDir,
+                "BP method: write the debug maps (bias, er, I', selected pixels, slices B and "
+                "C, sample counts, filter alpha) as EXR and false-colour PNG into this folder");
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
+  addMethodOptions(*c, flags->method);
   c->callback([flags] { run(*flags); });
 }
 

@@ -1,0 +1,185 @@
+#include "engine/session.h"
+
+#include <tbb/task_arena.h>
+
+#include <chrono>
+
+namespace penumbra {
+
+RenderSession::RenderSession(int threads) : threads_(threads) {
+  thread_ = std::thread([this] { worker(); });
+}
+
+RenderSession::~RenderSession() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+    cancelRound_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void RenderSession::start(MethodFactory factory) {
+  {
+    std::lock_guard lock(mutex_);
+    factory_ = std::move(factory);
+    ++generation_;
+    state_ = State::Running;
+    stepsLeft_ = -1;
+    error_.clear();
+    cancelRound_ = true;  // the round of the previous method, if any, stops early
+  }
+  wake_.notify_all();
+}
+
+void RenderSession::restart(MethodFactory factory) { start(std::move(factory)); }
+
+void RenderSession::pause() {
+  std::lock_guard lock(mutex_);
+  if (state_ == State::Running) stepsLeft_ = 0;
+}
+
+void RenderSession::resume() {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != State::Paused && state_ != State::Running) return;
+    state_ = State::Running;
+    stepsLeft_ = -1;
+  }
+  wake_.notify_all();
+}
+
+void RenderSession::step() {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != State::Paused && state_ != State::Running) return;
+    state_ = State::Running;
+    stepsLeft_ = 1;
+  }
+  wake_.notify_all();
+}
+
+void RenderSession::cancel() {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != State::Running && state_ != State::Paused) return;
+    ++generation_;
+    factory_ = nullptr;
+    state_ = State::Cancelled;
+    cancelRound_ = true;
+  }
+  wake_.notify_all();
+  idle_.notify_all();
+}
+
+RenderSession::State RenderSession::state() const {
+  std::lock_guard lock(mutex_);
+  return state_;
+}
+
+std::string RenderSession::error() const {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
+std::shared_ptr<const Snapshot> RenderSession::latest() const {
+  std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+bool RenderSession::wait(double timeoutSeconds) {
+  std::unique_lock lock(mutex_);
+  const auto until = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                         std::chrono::duration<double>(std::min(timeoutSeconds, 1e9)));
+  return idle_.wait_until(lock, until, [this] { return state_ != State::Running; });
+}
+
+void RenderSession::worker() {
+  tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
+  // The factory stays alive with its method: it may own what the method refers to (the
+  // prepared scene).
+  MethodFactory activeFactory;
+  std::unique_ptr<ProgressiveMethod> method;
+  uint64_t methodGeneration = 0;
+  auto drop = [&] {
+    method.reset();
+    activeFactory = nullptr;
+  };
+  std::unique_lock lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [&] { return quit_ || state_ == State::Running; });
+    if (quit_) return;
+    if (state_ == State::Running && stepsLeft_ == 0) {
+      state_ = State::Paused;
+      idle_.notify_all();
+      continue;
+    }
+    const uint64_t generation = generation_;
+    MethodFactory factory = factory_;
+    cancelRound_ = false;
+    lock.unlock();
+
+    std::shared_ptr<Snapshot> snapshot;
+    bool finished = false;
+    std::string failure;
+    try {
+      if (!method || methodGeneration != generation) {
+        drop();
+        activeFactory = std::move(factory);
+        method = activeFactory();
+        methodGeneration = generation;
+      }
+      arena.execute([&] {
+        method->runRound(&cancelRound_);
+        if (!cancelRound_) snapshot = method->snapshot();
+      });
+      finished = method->done();
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+
+    lock.lock();
+    if (generation != generation_) {
+      // Restarted or cancelled meanwhile: this round's result belongs to the old method.
+      lock.unlock();
+      drop();
+      lock.lock();
+      continue;
+    }
+    if (!failure.empty()) {
+      state_ = State::Failed;
+      error_ = failure;
+      lock.unlock();
+      drop();
+      lock.lock();
+      idle_.notify_all();
+      continue;
+    }
+    if (snapshot) {
+      latest_ = std::move(snapshot);
+      ++version_;
+    }
+    if (finished) {
+      state_ = State::Finished;
+      idle_.notify_all();
+    } else if (stepsLeft_ > 0) {
+      --stepsLeft_;
+    }
+  }
+}
+
+const char* toString(RenderSession::State state) {
+  switch (state) {
+    case RenderSession::State::Idle: return "idle";
+    case RenderSession::State::Running: return "running";
+    case RenderSession::State::Paused: return "paused";
+    case RenderSession::State::Finished: return "finished";
+    case RenderSession::State::Cancelled: return "cancelled";
+    case RenderSession::State::Failed: return "failed";
+  }
+  return "unknown";
+}
+
+}  // namespace penumbra

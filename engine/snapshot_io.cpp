@@ -1,0 +1,100 @@
+#include "engine/snapshot_io.h"
+
+#include "engine/debug_maps.h"
+#include "engine/image_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace penumbra {
+
+namespace {
+
+std::string compact(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+template <typename T>
+std::vector<float> asFloats(const std::vector<T>& values) {
+  return std::vector<float>(values.begin(), values.end());
+}
+
+float maxOf(const std::vector<float>& values) {
+  float m = 0.0f;
+  for (float v : values)
+    if (std::isfinite(v)) m = std::max(m, v);
+  return m;
+}
+
+}  // namespace
+
+std::vector<uint64_t> histogram(const std::vector<float>& values, int bins, float maxValue) {
+  std::vector<uint64_t> counts(size_t(bins) + 1, 0);
+  for (float v : values) {
+    if (!(v < maxValue)) {
+      ++counts[bins];
+      continue;
+    }
+    counts[std::clamp(int(std::floor(v / maxValue * bins)), 0, bins - 1)]++;
+  }
+  return counts;
+}
+
+std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapshot& snap,
+                                           const std::vector<float>& alphas) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw ImageIoError(dir + ": cannot create directory: " + ec.message());
+  std::vector<std::string> written;
+  const int w = snap.width, h = snap.height;
+  const size_t n = size_t(w) * h;
+  auto image = [&](const std::string& name, const Image& img) {
+    if (img.empty()) return;
+    writeImage(dir + "/" + name + ".exr", img);
+    written.push_back(name + ".exr");
+  };
+  auto map = [&](const std::string& name, const std::vector<float>& values,
+                 const MapLegend& legend) {
+    if (values.size() != n) return;
+    writeDebugMap(dir, name, values, w, h, legend);
+    written.push_back(name + ".exr");
+    written.push_back(name + ".png");
+  };
+  image("raw", snap.raw);
+  image("reconstructed", snap.reconstructed);
+  if (!snap.prediction.empty()) {
+    // I' is already tone-mapped, so its PNG is the values themselves.
+    writeImage(dir + "/prediction.exr", snap.prediction);
+    writeImage(dir + "/prediction.png", snap.prediction);
+    written.push_back("prediction.exr");
+    written.push_back("prediction.png");
+  }
+  map("bias", snap.bias,
+      {"bias", MapStyle::Continuous, 0.0f, std::max(1.0f, 0.0f), {}});
+  map("network_error", snap.networkError,
+      {"er", MapStyle::Continuous, 0.0f, std::max(1e-3f, maxOf(snap.networkError)), {}});
+  map("selected", asFloats(snap.selected),
+      {"sampled last round", MapStyle::Categorical, 0, 1, {"no", "yes"}});
+  std::vector<std::string> sliceLabels;
+  const int S = std::max(1, snap.slicesPerSide);
+  for (int i = 0; i < S * S; ++i)
+    sliceLabels.push_back("(" + std::to_string(i % S) + "," + std::to_string(i / S) + ")");
+  map("slice_b", asFloats(snap.sliceB), {"slice B", MapStyle::Categorical, 0, 1, sliceLabels});
+  map("slice_c", asFloats(snap.sliceC), {"slice C", MapStyle::Categorical, 0, 1, sliceLabels});
+  const std::vector<float> kept = asFloats(snap.keptCount);
+  map("samples", kept, {"kept spp", MapStyle::Continuous, 0.0f, std::max(1.0f, maxOf(kept)), {}});
+  const std::vector<float> traced = asFloats(snap.tracedCount);
+  map("traced", traced,
+      {"traced spp", MapStyle::Continuous, 0.0f, std::max(1.0f, maxOf(traced)), {}});
+  std::vector<std::string> alphaLabels;
+  for (float a : alphas) alphaLabels.push_back("a=" + compact(a));
+  map("alpha", asFloats(snap.alphaIndex),
+      {"filter alpha", MapStyle::Categorical, 0, 1, alphaLabels});
+  return written;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,31 @@
+// Command-line options that choose and configure the rendering method (--method and every
+// parameter of the BP method: the paper's Table 1 and the ablation switches of
+// ALGORITHM.md §12), shared by `render` and the commands that will run methods too.
+#pragma once
+
+#include "engine/bp_method.h"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+struct MethodOptions {
+  std::string method = "ld";
+  BpConfig bp;  // defaults = the recommended values
+  std::string targets = "per-sample";
+  std::string candidateMode = "traced";
+  std::string learningRate = "bold";
+  bool noWarping = false, noOutlierRemoval = false, noSecondPass = false, plainMean = false;
+  bool noTopUp = false, noReconstruct = false;
+  bool isBp() const { return method == "bp"; }
+  // The BP configuration for a render of `spp` kept samples with `seed`; throws
+  // CommandError naming the flag on an inconsistent combination.
+  BpConfig bpConfig(int spp, uint64_t seed, SamplerKind sampler) const;
+};
+
+void addMethodOptions(CLI::App& command, MethodOptions& options);
+
+}  // namespace penumbra
