@@ -125,7 +125,7 @@ class BpMethod final : public ProgressiveMethod {
     return bytes;
   }
 
-  std::shared_ptr<Snapshot> snapshot() override {
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
     auto snap = std::make_shared<Snapshot>();
     const auto start = Clock::now();
     snap->method = "bp";
@@ -153,7 +153,9 @@ class BpMethod final : public ProgressiveMethod {
       snap->tracedCount[p] = s.traced;
     }
     snap->selected = selected_;
-    if (config_.reconstruct && rounds_ > 0) {
+    if (!reconstructImage) {
+      snap->alphaIndex.clear();
+    } else if (config_.reconstruct && rounds_ > 0) {
       const Reconstruction r = reconstruct(snap->raw, snap->bias, tone_, config_.filter);
       snap->reconstructed = r.output;
       snap->alphaIndex = r.alphaIndex;
@@ -163,7 +165,7 @@ class BpMethod final : public ProgressiveMethod {
       for (size_t p = 0; p < pixelCount_; ++p)
         snap->alphaIndex[p] = uint8_t(alphaIndexForBias(snap->bias[p], config_.filter.phi));
     }
-    times_.reconstruct += secondsSince(start);
+    if (reconstructImage) times_.reconstruct += secondsSince(start);
     snap->keptSamples = kept_;
     snap->tracedSamples = traced_;
     snap->rays = counters_.rays;
@@ -698,7 +700,7 @@ class LdMethod final : public ProgressiveMethod {
     return mean_.capacity() * sizeof(glm::dvec3) + count_.capacity() * sizeof(uint32_t);
   }
 
-  std::shared_ptr<Snapshot> snapshot() override {
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
     auto snap = std::make_shared<Snapshot>();
     snap->method = "ld";
     snap->round = rounds_;

@@ -1,6 +1,8 @@
 // Error metrics between a render and its reference, and false-colour display of the error.
 #include "engine/metrics.h"
 
+#include "engine/reconstruct.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,7 +40,9 @@ double relativeSquaredError(vec3 test, vec3 reference) {
 
 ImageMetrics compareImages(const Image& test, const Image& reference) {
   requireSameSize(test, reference);
-  double squared = 0.0, relative = 0.0, clampedSquared = 0.0, maxAbs = 0.0;
+  // Both images through the reference's tone map, so the key is the same for every test.
+  const ToneMap tone = toneMapFor(reference);
+  double squared = 0.0, relative = 0.0, clampedSquared = 0.0, maxAbs = 0.0, toneSquared = 0.0;
   size_t finitePixels = 0, nonFinite = 0;
   for (size_t i = 0; i < test.pixels.size(); ++i) {
     const vec3 x = test.pixels[i], ref = reference.pixels[i];
@@ -48,6 +52,8 @@ ImageMetrics compareImages(const Image& test, const Image& reference) {
     }
     ++finitePixels;
     relative += relativeSquaredError(x, ref);
+    const vec3 dt = tone.apply(x) - tone.apply(ref);
+    toneSquared += double(dt.x) * dt.x + double(dt.y) * dt.y + double(dt.z) * dt.z;
     for (int k = 0; k < 3; ++k) {
       const double d = double(x[k]) - ref[k];
       squared += d * d;
@@ -61,12 +67,13 @@ ImageMetrics compareImages(const Image& test, const Image& reference) {
   m.nonFinite = nonFinite;
   if (finitePixels == 0) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    m.mse = m.relMse = m.psnr = m.maxAbsError = nan;
+    m.mse = m.relMse = m.toneMappedMse = m.psnr = m.maxAbsError = nan;
     return m;
   }
   const double n = double(finitePixels);
   m.mse = squared / (3.0 * n);
   m.relMse = relative / n;  // relativeSquaredError already averages the channels
+  m.toneMappedMse = toneSquared / (3.0 * n);
   m.maxAbsError = maxAbs;
   const double clampedMse = clampedSquared / (3.0 * n);
   m.psnr = clampedMse > 0.0 ? 10.0 * std::log10(1.0 / clampedMse)

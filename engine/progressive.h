@@ -59,8 +59,10 @@ class ProgressiveMethod {
   virtual void runRound(const std::atomic<bool>* cancel) = 0;
   virtual bool done() const = 0;  // budget spent (never true in open-ended mode)
   virtual int roundsDone() const = 0;
-  // The state after the last completed round; the images are reconstructed on demand.
-  virtual std::shared_ptr<Snapshot> snapshot() = 0;
+  // The state after the last completed round. The reconstruction is computed on demand
+  // (its time counts in PhaseTimes::reconstruct); with reconstructImage false the
+  // snapshot's reconstructed image is left empty, for cheap per-round statistics.
+  virtual std::shared_ptr<Snapshot> snapshot(bool reconstructImage = true) = 0;
   // Bytes held for per-pixel state (samples, networks, accumulators).
   virtual size_t memoryBytes() const = 0;
 };

@@ -63,6 +63,7 @@ void run(const DiffFlags& flags) {
     nlohmann::json j;
     j["mse"] = finiteOrNull(m.mse);
     j["rel_mse"] = finiteOrNull(m.relMse);
+    j["tone_mapped_mse"] = finiteOrNull(m.toneMappedMse);
     j["psnr"] = finiteOrNull(m.psnr);
     j["max_abs_error"] = finiteOrNull(m.maxAbsError);
     j["non_finite"] = m.nonFinite;
@@ -79,6 +80,7 @@ void run(const DiffFlags& flags) {
   }
   std::printf("mse %.3e\n", m.mse);
   std::printf("rel_mse %.3e\n", m.relMse);
+  std::printf("tone_mapped_mse %.3e\n", m.toneMappedMse);
   std::printf("psnr %.2f dB\n", m.psnr);
   std::printf("max_abs_error %.3e\n", m.maxAbsError);
   std::printf("non_finite %zu\n", m.nonFinite);
@@ -100,7 +102,7 @@ void registerDiffCommand(CLI::App& app) {
                 "Write a false-colour map of the per-pixel relative squared error "
                 "(.png, .exr or .pfm); dark = small, bright = large, magenta = NaN/inf");
   c->add_flag("--json", flags->json,
-              "Print one JSON object (mse, rel_mse, psnr, max_abs_error, non_finite, width, "
+              "Print one JSON object (mse, rel_mse, tone_mapped_mse, psnr, max_abs_error, non_finite, width, "
               "height) instead of one metric per line; undefined values are null");
   c->add_option("--exposure", flags->exposure,
                 "Scale both images by 2^STOPS before comparing, as `render --exposure` does for "

@@ -197,8 +197,7 @@ void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads)
   while (!method->done()) {
     method->runRound(nullptr);
     if (wantRounds) {
-      // Per-round records need the bias of that round; a snapshot costs one filter pass.
-      const auto snap = method->snapshot();
+      const auto snap = method->snapshot(false);
       size_t difficult = 0;
       for (size_t p = 0; p < snap->bias.size(); ++p)
         difficult += snap->bias[p] > config.psi &&

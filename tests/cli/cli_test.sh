@@ -73,5 +73,22 @@ expect_fail "diff size mismatch" "size" "$penumbra" diff "$work/a.exr" "$work/t1
 [ -e "$work/x.png" ] && { echo "FAIL: a failed render left an output file"; failures=$((failures + 1)); }
 ls "$work" | grep -q tmp && { echo "FAIL: temporary files left behind"; failures=$((failures + 1)); }
 
+# The BP method: output, raw estimate, debug maps and statistics; same bytes for 1 and 2 threads.
+expect_ok "render bp" "$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp.pfm" --raw-out "$work/bp_raw.exr" --aov-dir "$work/aov" --stats "$work/bp.json" --threads 1 -q
+for f in bias.exr bias.png network_error.png prediction.png selected.png slice_b.png slice_c.png samples.png traced.png alpha.png raw.exr reconstructed.exr; do
+  [ -s "$work/aov/$f" ] || { echo "FAIL: --aov-dir lacks $f"; failures=$((failures + 1)); }
+done
+for key in kept_spp traced_spp rounds phases train select reconstruct trace bias_histogram alpha_histogram per_round training_gflops; do
+  grep -q "\"$key\"" "$work/bp.json" || { echo "FAIL: bp stats lack $key"; failures=$((failures + 1)); }
+done
+grep -q '"kept_spp": 8.0' "$work/bp.json" && passes=$((passes + 1)) || { echo "FAIL: bp kept spp is not 8"; failures=$((failures + 1)); }
+"$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp2.pfm" --threads 2 -q
+cmp -s "$work/bp.pfm" "$work/bp2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the bp image"; failures=$((failures + 1)); }
+expect_ok "bp ablations" "$penumbra" render "$cornell" --method bp --size 16x16 --spp 8 -o "$work/bpa.exr" -q --inputs 5 --targets pixel-mean --prediction-draws 1 --candidate-mode predicted --no-warping --no-outlier-removal --no-second-pass --plain-mean --no-top-up --no-reconstruct --learning-rate proportional
+expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --phi 0.3,0.5
+expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
+expect_fail "aov dir needs bp" "--aov-dir needs --method bp" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
+expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
+
 echo "$passes passed, $failures failed"
 [ $failures -eq 0 ]

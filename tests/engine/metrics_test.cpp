@@ -162,3 +162,20 @@ TEST(Metrics, FalseColorFlagsNonFiniteAndClamps) {
 
 }  // namespace
 }  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+TEST(Metrics, ToneMappedMseUsesTheReferencesKey) {
+  // Reference: constant 0.18 grey, so its key is k = 0.18 / (0.18 + 1e-4) and T(0.18) =
+  // 0.18k / (1 + 0.18k). A test image of 0.36 gives T(0.36) = 0.36k / (1 + 0.36k).
+  const Image ref(4, 2, vec3(0.18f));
+  const Image test(4, 2, vec3(0.36f));
+  const double k = 0.18 / (0.18 + 1e-4);
+  const double d = 0.36 * k / (1 + 0.36 * k) - 0.18 * k / (1 + 0.18 * k);
+  EXPECT_NEAR(compareImages(test, ref).toneMappedMse, d * d, 1e-6);
+  EXPECT_EQ(compareImages(ref, ref).toneMappedMse, 0.0);
+}
+
+}  // namespace
+}  // namespace penumbra
