@@ -1,0 +1,85 @@
+// Speed of the BP method's adaptive machinery, as ratios measured within one run:
+//
+// 1. Training throughput against this machine's FMA peak: the peak comes from
+//    measureFmaPeakGflops (independent FMA chains in the widest vector width, all worker
+//    threads), the training figure from the multiply-add flops the training kernel spent
+//    during a real render divided by the time inside the kernel. Goal: >= 25% of peak.
+// 2. Adaptive overhead: (train + select + reconstruct) / (all phases) of the same render.
+//    Goal: <= 30% on balls at 256x256, 32 spp.
+// The peak is measured before and after the render and the higher value kept, so a noisy
+// neighbour lowers the ratio rather than flattering it.
+//
+// Usage: penumbra_bench_bp [scene.json] [--spp N] [--size S] [--threads T] [--nit N]
+#include "engine/bp_method.h"
+#include "engine/scene_loader.h"
+
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+
+using namespace penumbra;
+
+int main(int argc, char** argv) {
+  std::string scenePath = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/balls.json";
+  int spp = 32, size = 256, threads = int(std::thread::hardware_concurrency()), nit = -1;
+  for (int i = 1; i < argc; ++i) {
+    auto next = [&](const char* flag) {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "penumbra_bench_bp: %s needs a value\n", flag);
+        std::exit(2);
+      }
+      return std::atoi(argv[++i]);
+    };
+    if (!std::strcmp(argv[i], "--spp")) spp = next("--spp");
+    else if (!std::strcmp(argv[i], "--size")) size = next("--size");
+    else if (!std::strcmp(argv[i], "--threads")) threads = next("--threads");
+    else if (!std::strcmp(argv[i], "--nit")) nit = next("--nit");
+    else scenePath = argv[i];
+  }
+  if (spp < 1 || size < 1 || threads < 1) {
+    std::fprintf(stderr, "penumbra_bench_bp: --spp, --size and --threads must be positive\n");
+    return 2;
+  }
+  try {
+    Scene scene = loadScene(scenePath);
+    scene.settings.width = scene.settings.height = size;
+    auto prepared = prepareScene(std::move(scene));
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+
+    const double peakBefore = measureFmaPeakGflops(threads, 1.0);
+    BpConfig config;
+    config.spp = spp;
+    if (nit >= 0) config.network.epochs = nit;
+    auto method = makeBpMethod(*prepared, config);
+    while (!method->done()) method->runRound(nullptr);
+    const auto snap = method->snapshot();
+    const double peak = std::max(peakBefore, measureFmaPeakGflops(threads, 1.0));
+
+    const PhaseTimes& t = snap->times;
+    const double training = snap->trainingKernelSeconds > 0
+                                ? double(snap->trainingFlops) / snap->trainingKernelSeconds * 1e-9
+                                : 0.0;
+    const double overhead = (t.train + t.select + t.reconstruct) / t.total();
+    const double pixels = double(size) * size;
+    std::printf("scene %s, %dx%d, %d spp (%.1f traced), %d rounds, %d threads, simd %s\n",
+                scenePath.c_str(), size, size, spp, double(snap->tracedSamples) / pixels,
+                snap->round, threads, networkSimdName());
+    std::printf("phases: trace %.3f s, train %.3f s (kernel %.3f s), select %.3f s, "
+                "reconstruct %.3f s\n",
+                t.trace, t.train, snap->trainingKernelSeconds, t.select, t.reconstruct);
+    std::printf("FMA peak            %8.1f GFLOP/s\n", peak);
+    std::printf("network training    %8.1f GFLOP/s  ratio %.2f (goal >= 0.25)\n", training,
+                training / peak);
+    std::printf("adaptive overhead   %8.1f %%       ratio %.2f (goal <= 0.30)\n",
+                100.0 * overhead, overhead);
+    std::printf("memory              %8.0f bytes per pixel\n",
+                double(method->memoryBytes()) / pixels);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "penumbra_bench_bp: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
