@@ -1,5 +1,5 @@
-// The BP-network training kernel for SSE (x86-64 baseline, 4 lanes); also the fallback on CPUs without AVX2+FMA. CMake gives this file its
-// instruction-set flags; bp_network.cpp calls it only when the CPU has them.
+// The BP-network training kernel for SSE, 4 lanes: the baseline every x86-64 CPU runs, used
+// where AVX2 + FMA are missing. It gets the project's default instruction-set flags.
 #include <immintrin.h>
 
 #include <cstdint>
