@@ -33,11 +33,16 @@ int main(int argc, char** argv) {
       }
       return std::atoi(argv[++i]);
     };
-    if (!std::strcmp(argv[i], "--spp")) spp = next("--spp");
-    else if (!std::strcmp(argv[i], "--size")) size = next("--size");
-    else if (!std::strcmp(argv[i], "--threads")) threads = next("--threads");
-    else if (!std::strcmp(argv[i], "--nit")) nit = next("--nit");
-    else scenePath = argv[i];
+    if (!std::strcmp(argv[i], "--spp"))
+      spp = next("--spp");
+    else if (!std::strcmp(argv[i], "--size"))
+      size = next("--size");
+    else if (!std::strcmp(argv[i], "--threads"))
+      threads = next("--threads");
+    else if (!std::strcmp(argv[i], "--nit"))
+      nit = next("--nit");
+    else
+      scenePath = argv[i];
   }
   if (spp < 1 || size < 1 || threads < 1) {
     std::fprintf(stderr, "penumbra_bench_bp: --spp, --size and --threads must be positive\n");
@@ -67,14 +72,15 @@ int main(int argc, char** argv) {
     std::printf("scene %s, %dx%d, %d spp (%.1f traced), %d rounds, %d threads, simd %s\n",
                 scenePath.c_str(), size, size, spp, double(snap->tracedSamples) / pixels,
                 snap->round, threads, networkSimdName());
-    std::printf("phases: trace %.3f s, train %.3f s (kernel %.3f s), select %.3f s, "
-                "reconstruct %.3f s\n",
-                t.trace, t.train, snap->trainingKernelSeconds, t.select, t.reconstruct);
+    std::printf(
+        "phases: trace %.3f s, train %.3f s (kernel %.3f s), select %.3f s, "
+        "reconstruct %.3f s\n",
+        t.trace, t.train, snap->trainingKernelSeconds, t.select, t.reconstruct);
     std::printf("FMA peak            %8.1f GFLOP/s\n", peak);
     std::printf("network training    %8.1f GFLOP/s  ratio %.2f (goal >= 0.25)\n", training,
                 training / peak);
-    std::printf("adaptive overhead   %8.1f %%       ratio %.2f (goal <= 0.30)\n",
-                100.0 * overhead, overhead);
+    std::printf("adaptive overhead   %8.1f %%       ratio %.2f (goal <= 0.30)\n", 100.0 * overhead,
+                overhead);
     std::printf("memory              %8.0f bytes per pixel\n",
                 double(method->memoryBytes()) / pixels);
   } catch (const std::exception& e) {

@@ -38,9 +38,9 @@ struct StoredSample {
 };
 
 struct PixelState {
-  uint32_t kept = 0;    // samples in the estimate
-  uint32_t traced = 0;  // camera samples traced (kept, candidates, rejected, non-finite)
-  uint32_t drawn = 0;   // sample indices used from the pixel's sampler stream
+  uint32_t kept = 0;     // samples in the estimate
+  uint32_t traced = 0;   // camera samples traced (kept, candidates, rejected, non-finite)
+  uint32_t drawn = 0;    // sample indices used from the pixel's sampler stream
   glm::dvec3 sumL{0.0};  // linear radiance
   glm::dvec3 sumT{0.0};  // tone-mapped radiance, for eq. 12
   float bias = 0.0f;
@@ -239,31 +239,31 @@ class BpMethod final : public ProgressiveMethod {
     auto start = Clock::now();
     // Trace first: the tone map that histograms and targets use comes from this pass.
     std::vector<std::vector<TracedSample>> traced(pixelCount_);
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
-        [&](const tbb::blocked_range<size_t>& range) {
-          if (cancel && cancel->load(std::memory_order_relaxed)) return;
-          enableFlushToZero();
-          PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
-          PathCounters counters;
-          uint64_t nonFinite = 0;
-          for (size_t p = range.begin(); p < range.end(); ++p) {
-            const int px = int(p % width_), py = int(p / width_);
-            traced[p].reserve(coarseSpp_);
-            for (int i = 0; i < coarseSpp_; ++i) {
-              sampler.startSample(px, py, uint32_t(i));
-              const CameraSample cs = sampler.cameraSample(prepared_.usesLens, prepared_.usesTime);
-              const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
-              if (isFinite(L))
-                traced[p].push_back({cs, L});
-              else
-                ++nonFinite;
-            }
-            pixels_[p].traced = pixels_[p].drawn = uint32_t(coarseSpp_);
-          }
-          counters_.rays += counters.rays;
-          counters_.nonFinite += nonFinite;
-        });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                        enableFlushToZero();
+                        PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
+                        PathCounters counters;
+                        uint64_t nonFinite = 0;
+                        for (size_t p = range.begin(); p < range.end(); ++p) {
+                          const int px = int(p % width_), py = int(p / width_);
+                          traced[p].reserve(coarseSpp_);
+                          for (int i = 0; i < coarseSpp_; ++i) {
+                            sampler.startSample(px, py, uint32_t(i));
+                            const CameraSample cs =
+                                sampler.cameraSample(prepared_.usesLens, prepared_.usesTime);
+                            const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
+                            if (isFinite(L))
+                              traced[p].push_back({cs, L});
+                            else
+                              ++nonFinite;
+                          }
+                          pixels_[p].traced = pixels_[p].drawn = uint32_t(coarseSpp_);
+                        }
+                        counters_.rays += counters.rays;
+                        counters_.nonFinite += nonFinite;
+                      });
     if (cancel && cancel->load()) return;
     Image coarse(width_, height_);
     for (size_t p = 0; p < pixelCount_; ++p) {
@@ -308,7 +308,6 @@ class BpMethod final : public ProgressiveMethod {
     const int roundsLeft = std::max(1, config_.maxRounds - adaptiveRounds_);
     return (remaining + roundsLeft - 1) / roundsLeft;
   }
-
 
   // Pixels in the order they get samples: the difficult ones (bias > Psi and er > e) by
   // descending bias; then, with top-up, the other unconverged ones (er > e) by descending
@@ -363,18 +362,18 @@ class BpMethod final : public ProgressiveMethod {
     }
     // Slice choice per pixel, fixed for the round (§6.3-§6.4).
     std::vector<SliceChoice> choices(pixelCount_);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), kPixelGrain),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        for (size_t i = range.begin(); i < range.end(); ++i) {
-                          const uint32_t p = chosen[i];
-                          SliceChoice c = chooseSlices(
-                              std::span<const SliceStats>(&slices_[p * slicesPerPixel_],
-                                                          slicesPerPixel_),
-                              config_.histogramLevels);
-                          if (!config_.warping) c.warp = false;
-                          choices[p] = c;
-                        }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, chosen.size(), kPixelGrain),
+        [&](const tbb::blocked_range<size_t>& range) {
+          for (size_t i = range.begin(); i < range.end(); ++i) {
+            const uint32_t p = chosen[i];
+            SliceChoice c = chooseSlices(
+                std::span<const SliceStats>(&slices_[p * slicesPerPixel_], slicesPerPixel_),
+                config_.histogramLevels);
+            if (!config_.warping) c.warp = false;
+            choices[p] = c;
+          }
+        });
     for (size_t p = 0; p < pixelCount_; ++p) {
       pixels_[p].sliceB = slots[p] ? int8_t(choices[p].b) : int8_t(-1);
       pixels_[p].sliceC = slots[p] ? int8_t(choices[p].c) : int8_t(-1);
@@ -387,8 +386,7 @@ class BpMethod final : public ProgressiveMethod {
                       [&](const tbb::blocked_range<size_t>& range) {
                         if (cancel && cancel->load(std::memory_order_relaxed)) return;
                         enableFlushToZero();
-                        PixelSampler sampler(config_.sampler, config_.seed,
-                                             uint32_t(coarseSpp_));
+                        PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
                         PathCounters counters;
                         uint64_t localSpent = 0, localTraced = 0;
                         for (size_t i = range.begin(); i < range.end(); ++i) {
@@ -518,27 +516,25 @@ class BpMethod final : public ProgressiveMethod {
       batch.offsets[i + 1] = batch.offsets[i] + uint32_t(samples_[pixels[i]].size());
     batch.inputs.assign(size_t(batch.offsets.back()) * kMaxNetInputs, 0.0f);
     batch.targets.assign(size_t(batch.offsets.back()) * kNetOutputs, 0.0f);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        for (size_t i = range.begin(); i < range.end(); ++i) {
-                          const uint32_t p = pixels[i];
-                          const PixelState& state = pixels_[p];
-                          const vec3 mean = state.kept ? vec3(state.sumT / double(state.kept))
-                                                       : vec3(0.0f);
-                          size_t k = batch.offsets[i];
-                          for (const StoredSample& s : samples_[p]) {
-                            bp::networkInputs(ni, s.dx, s.dy, s.u, s.v, s.t,
-                                              &batch.inputs[k * kMaxNetInputs]);
-                            const vec3 target = config_.targets == TargetMode::PerSample
-                                                    ? tone_.apply(s.radiance)
-                                                    : mean;
-                            batch.targets[k * 3 + 0] = target.x;
-                            batch.targets[k * 3 + 1] = target.y;
-                            batch.targets[k * 3 + 2] = target.z;
-                            ++k;
-                          }
-                        }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
+        [&](const tbb::blocked_range<size_t>& range) {
+          for (size_t i = range.begin(); i < range.end(); ++i) {
+            const uint32_t p = pixels[i];
+            const PixelState& state = pixels_[p];
+            const vec3 mean = state.kept ? vec3(state.sumT / double(state.kept)) : vec3(0.0f);
+            size_t k = batch.offsets[i];
+            for (const StoredSample& s : samples_[p]) {
+              bp::networkInputs(ni, s.dx, s.dy, s.u, s.v, s.t, &batch.inputs[k * kMaxNetInputs]);
+              const vec3 target =
+                  config_.targets == TargetMode::PerSample ? tone_.apply(s.radiance) : mean;
+              batch.targets[k * 3 + 0] = target.x;
+              batch.targets[k * 3 + 1] = target.y;
+              batch.targets[k * 3 + 2] = target.z;
+              ++k;
+            }
+          }
+        });
     std::vector<PixelNet*> nets(pixels.size());
     for (size_t i = 0; i < pixels.size(); ++i) nets[i] = &nets_[pixels[i]];
     if (cancel && cancel->load()) return;
@@ -548,32 +544,32 @@ class BpMethod final : public ProgressiveMethod {
 
     // I' over K lens/time draws at the pixel centre, and the bias (§5).
     const int K = config_.predictionDraws;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        std::vector<float> uvt(size_t(K) * 3);
-                        float x[kMaxNetInputs];
-                        for (size_t i = range.begin(); i < range.end(); ++i) {
-                          const uint32_t p = pixels[i];
-                          PixelState& state = pixels_[p];
-                          // K = 1 is the paper's single random draw, new every round.
-                          const uint64_t key = hashValues(
-                              config_.seed, p, K == 1 ? kPredictionSalt + rounds_ : kPredictionSalt);
-                          bp::predictionPoints(K, key, uvt.data());
-                          vec3 sum(0.0f);
-                          for (int j = 0; j < K; ++j) {
-                            const float u = prepared_.usesLens ? uvt[3 * j] : 0.5f;
-                            const float v = prepared_.usesLens ? uvt[3 * j + 1] : 0.5f;
-                            const float t = prepared_.usesTime ? uvt[3 * j + 2] : 0.5f;
-                            bp::networkInputs(ni, 0.0f, 0.0f, u, v, t, x);
-                            sum += predict(nets_[p], config_.network, x);
-                          }
-                          state.prediction = sum / float(K);
-                          state.er = nets_[p].er;
-                          const vec3 mean = state.kept ? vec3(state.sumT / double(state.kept))
-                                                       : vec3(0.0f);
-                          state.bias = bp::biasOf(state.prediction, mean, config_.biasEpsilon);
-                        }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
+        [&](const tbb::blocked_range<size_t>& range) {
+          std::vector<float> uvt(size_t(K) * 3);
+          float x[kMaxNetInputs];
+          for (size_t i = range.begin(); i < range.end(); ++i) {
+            const uint32_t p = pixels[i];
+            PixelState& state = pixels_[p];
+            // K = 1 is the paper's single random draw, new every round.
+            const uint64_t key =
+                hashValues(config_.seed, p, K == 1 ? kPredictionSalt + rounds_ : kPredictionSalt);
+            bp::predictionPoints(K, key, uvt.data());
+            vec3 sum(0.0f);
+            for (int j = 0; j < K; ++j) {
+              const float u = prepared_.usesLens ? uvt[3 * j] : 0.5f;
+              const float v = prepared_.usesLens ? uvt[3 * j + 1] : 0.5f;
+              const float t = prepared_.usesTime ? uvt[3 * j + 2] : 0.5f;
+              bp::networkInputs(ni, 0.0f, 0.0f, u, v, t, x);
+              sum += predict(nets_[p], config_.network, x);
+            }
+            state.prediction = sum / float(K);
+            state.er = nets_[p].er;
+            const vec3 mean = state.kept ? vec3(state.sumT / double(state.kept)) : vec3(0.0f);
+            state.bias = bp::biasOf(state.prediction, mean, config_.biasEpsilon);
+          }
+        });
     times_.train += secondsSince(start);
   }
 
@@ -643,8 +639,7 @@ class LdMethod final : public ProgressiveMethod {
         pixelCount_(size_t(width_) * height_),
         mean_(pixelCount_, glm::dvec3(0.0)),
         count_(pixelCount_, 0) {
-    if (!config.openEnded && config.spp < 1)
-      throw std::invalid_argument("spp must be at least 1");
+    if (!config.openEnded && config.spp < 1) throw std::invalid_argument("spp must be at least 1");
     if (config.roundSpp < 1) throw std::invalid_argument("round spp must be at least 1");
     start_ = Clock::now();
   }
@@ -658,33 +653,33 @@ class LdMethod final : public ProgressiveMethod {
     if (target > 0) last = std::min(last, uint32_t(target));
     // renderImage uses the spp as set size; the open-ended stream uses blocks of 64.
     const uint32_t setSize = config_.openEnded ? 64u : uint32_t(config_.spp);
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
-        [&](const tbb::blocked_range<size_t>& range) {
-          if (cancel && cancel->load(std::memory_order_relaxed)) return;
-          enableFlushToZero();
-          PixelSampler sampler(config_.sampler, config_.seed, setSize);
-          PathCounters counters;
-          uint64_t nonFinite = 0;
-          for (size_t p = range.begin(); p < range.end(); ++p) {
-            const int px = int(p % width_), py = int(p / width_);
-            for (uint32_t i = first; i < last; ++i) {
-              sampler.startSample(px, py, i);
-              const vec3 L = traceRadiance(
-                  prepared_, sampler.cameraSample(prepared_.usesLens, prepared_.usesTime),
-                  sampler, counters);
-              if (!isFinite(L)) {
-                ++nonFinite;
-                continue;
-              }
-              // Welford's running mean, in sample order, as renderImage does.
-              ++count_[p];
-              mean_[p] += (glm::dvec3(L) - mean_[p]) / double(count_[p]);
-            }
-          }
-          counters_.rays += counters.rays;
-          counters_.nonFinite += nonFinite;
-        });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                        enableFlushToZero();
+                        PixelSampler sampler(config_.sampler, config_.seed, setSize);
+                        PathCounters counters;
+                        uint64_t nonFinite = 0;
+                        for (size_t p = range.begin(); p < range.end(); ++p) {
+                          const int px = int(p % width_), py = int(p / width_);
+                          for (uint32_t i = first; i < last; ++i) {
+                            sampler.startSample(px, py, i);
+                            const vec3 L = traceRadiance(
+                                prepared_,
+                                sampler.cameraSample(prepared_.usesLens, prepared_.usesTime),
+                                sampler, counters);
+                            if (!isFinite(L)) {
+                              ++nonFinite;
+                              continue;
+                            }
+                            // Welford's running mean, in sample order, as renderImage does.
+                            ++count_[p];
+                            mean_[p] += (glm::dvec3(L) - mean_[p]) / double(count_[p]);
+                          }
+                        }
+                        counters_.rays += counters.rays;
+                        counters_.nonFinite += nonFinite;
+                      });
     if (cancel && cancel->load()) return;
     drawn_ = last;
     ++rounds_;

@@ -27,17 +27,17 @@
 
 namespace penumbra {
 
-enum class TargetMode { PerSample, PixelMean };    // §4.3 [A8]
-enum class CandidateMode { Traced, Predicted };    // §7.2 [A16]: (B) trace all, (A) network
+enum class TargetMode { PerSample, PixelMean };  // §4.3 [A8]
+enum class CandidateMode { Traced, Predicted };  // §7.2 [A16]: (B) trace all, (A) network
 
 struct BpConfig {
   uint64_t seed = 0;
-  int spp = 16;         // kept samples per pixel (batch mode)
-  int coarseSpp = 0;    // N0; 0 = max(4, spp/4) rounded up to a power of two [A7]
-  int maxRounds = 8;    // adaptive rounds of the batch schedule
+  int spp = 16;       // kept samples per pixel (batch mode)
+  int coarseSpp = 0;  // N0; 0 = max(4, spp/4) rounded up to a power of two [A7]
+  int maxRounds = 8;  // adaptive rounds of the batch schedule
   bool openEnded = false;
-  int roundSpp = 1;     // open-ended: kept samples per pixel per round, on average
-  int maxSpp = 0;       // open-ended: stop at this average kept spp (0 = never)
+  int roundSpp = 1;  // open-ended: kept samples per pixel per round, on average
+  int maxSpp = 0;    // open-ended: stop at this average kept spp (0 = never)
   NetworkConfig network;
   TargetMode targets = TargetMode::PerSample;
   int predictionDraws = 8;  // K lens/time draws averaged for I' [A12]

@@ -29,12 +29,12 @@ enum class LearningRateMode {
 };
 
 struct NetworkConfig {
-  int inputs = 4;   // 4: (sqrt2 * r, u, v, t); 5: (2dx, 2dy, u, v, t)
-  int hidden = 8;   // Nm, 1..kMaxNetHidden
-  int epochs = 60;  // Nit per (re)training
-  float biasHidden = 0.01f;      // b_h, subtracted, not learned [A4]
-  float biasOutput = 0.01f;      // b_o
-  float errorThreshold = 0.1f;   // e: training of a pixel stops early once er < e [A6]
+  int inputs = 4;               // 4: (sqrt2 * r, u, v, t); 5: (2dx, 2dy, u, v, t)
+  int hidden = 8;               // Nm, 1..kMaxNetHidden
+  int epochs = 60;              // Nit per (re)training
+  float biasHidden = 0.01f;     // b_h, subtracted, not learned [A4]
+  float biasOutput = 0.01f;     // b_o
+  float errorThreshold = 0.1f;  // e: training of a pixel stops early once er < e [A6]
   float muStart = 0.05f, muMin = 0.02f, muMax = 0.08f;
   LearningRateMode rate = LearningRateMode::BoldDriver;
   bool meanGradient = false;  // divide the summed gradient by n (off: the paper's sum)

@@ -39,8 +39,7 @@ int drawText(Image& image, int x, int y, const std::string& text, vec3 color, in
 
 // Writes DIR/NAME.exr (the raw values in all three channels; NaN kept) and DIR/NAME.png
 // (drawMapWithLegend). Throws ImageIoError naming the file on failure.
-void writeDebugMap(const std::string& dir, const std::string& name,
-                   std::span<const float> values, int width, int height,
-                   const MapLegend& legend);
+void writeDebugMap(const std::string& dir, const std::string& name, std::span<const float> values,
+                   int width, int height, const MapLegend& legend);
 
 }  // namespace penumbra

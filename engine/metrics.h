@@ -9,8 +9,8 @@
 namespace penumbra {
 
 struct ImageMetrics {
-  double mse = 0.0;          // mean over pixels and RGB channels of (x - ref)^2, linear values
-  double relMse = 0.0;       // mean of (x - ref)^2 / (ref^2 + 1e-2), same averaging
+  double mse = 0.0;            // mean over pixels and RGB channels of (x - ref)^2, linear values
+  double relMse = 0.0;         // mean of (x - ref)^2 / (ref^2 + 1e-2), same averaging
   double toneMappedMse = 0.0;  // MSE of T(x) - T(ref), T the Reinhard map keyed on ref (§0)
   double psnr = 0.0;         // dB, 10 log10(1 / MSE) on both images clamped to [0,1]; +inf if equal
   double maxAbsError = 0.0;  // largest |x - ref| over all channels

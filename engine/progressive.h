@@ -31,10 +31,10 @@ struct Snapshot {
   Image reconstructed;  // after the method's filter (equals raw without one)
 
   // Debug maps, one value per pixel (empty where a method has none).
-  std::vector<float> bias;          // error estimate that drives sampling
-  std::vector<float> networkError;  // er of the pixel's network
-  Image prediction;                 // I', tone-mapped RGB
-  std::vector<uint8_t> selected;    // 1 where the last round added samples
+  std::vector<float> bias;             // error estimate that drives sampling
+  std::vector<float> networkError;     // er of the pixel's network
+  Image prediction;                    // I', tone-mapped RGB
+  std::vector<uint8_t> selected;       // 1 where the last round added samples
   std::vector<int8_t> sliceB, sliceC;  // slices chosen in the last round, -1 for none
   std::vector<uint32_t> keptCount;     // kept samples per pixel
   std::vector<uint32_t> tracedCount;   // traced camera samples per pixel
@@ -45,9 +45,9 @@ struct Snapshot {
   uint64_t nonFiniteSamples = 0;  // NaN or infinite samples dropped
   uint64_t rejectedSamples = 0;   // traced but removed as outliers
   PhaseTimes times;
-  uint64_t trainingFlops = 0;     // multiply-add flops spent in network training
+  uint64_t trainingFlops = 0;        // multiply-add flops spent in network training
   double trainingKernelSeconds = 0;  // time inside the training kernel alone
-  double seconds = 0;  // wall time since the method started
+  double seconds = 0;                // wall time since the method started
   std::string method;
 };
 

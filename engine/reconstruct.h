@@ -16,7 +16,7 @@
 namespace penumbra {
 
 struct ToneMap {
-  float key = 1.0f;  // k
+  float key = 1.0f;                // k
   vec3 apply(vec3 linear) const;   // T(L), per channel, negative values clamped to 0
   vec3 invert(vec3 mapped) const;  // L = t / (k (1 - t)), t clamped below 1
   float value(vec3 linear) const;  // v = Y(T(L)), the scalar the slices use
@@ -25,12 +25,12 @@ struct ToneMap {
 ToneMap toneMapFor(const Image& image);
 
 struct FilterConfig {
-  int radius = 4;                                    // r: (2r+1)^2 window
+  int radius = 4;                                        // r: (2r+1)^2 window
   std::vector<float> alphas{0.1f, 1.f, 3.f, 5.f, 10.f};  // alpha_1 (widest) .. alpha_5
   std::vector<float> phi{0.3f, 0.45f, 0.7f, 0.85f};      // bias thresholds, ascending
-  float sigmaC = 0.3f;                               // range falloff on tone-mapped RGB
+  float sigmaC = 0.3f;                                   // range falloff on tone-mapped RGB
   bool secondPass = true;
-  int secondPassAlpha = 2;                           // index of alpha_3
+  int secondPassAlpha = 2;  // index of alpha_3
 };
 
 // Index into alphas for a bias: the number of thresholds <= bias (a value exactly on a
@@ -49,7 +49,7 @@ struct Reconstruction {
 };
 // Throws std::invalid_argument when bias.size() differs from the pixel count, or the
 // configuration is inconsistent (phi.size() != alphas.size() - 1, radius < 0, ...).
-Reconstruction reconstruct(const Image& estimate, std::span<const float> bias,
-                           const ToneMap& tone, const FilterConfig& config);
+Reconstruction reconstruct(const Image& estimate, std::span<const float> bias, const ToneMap& tone,
+                           const FilterConfig& config);
 
 }  // namespace penumbra

@@ -172,12 +172,18 @@ void RenderSession::worker() {
 
 const char* toString(RenderSession::State state) {
   switch (state) {
-    case RenderSession::State::Idle: return "idle";
-    case RenderSession::State::Running: return "running";
-    case RenderSession::State::Paused: return "paused";
-    case RenderSession::State::Finished: return "finished";
-    case RenderSession::State::Cancelled: return "cancelled";
-    case RenderSession::State::Failed: return "failed";
+    case RenderSession::State::Idle:
+      return "idle";
+    case RenderSession::State::Running:
+      return "running";
+    case RenderSession::State::Paused:
+      return "paused";
+    case RenderSession::State::Finished:
+      return "finished";
+    case RenderSession::State::Cancelled:
+      return "cancelled";
+    case RenderSession::State::Failed:
+      return "failed";
   }
   return "unknown";
 }

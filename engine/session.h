@@ -58,9 +58,9 @@ class RenderSession {
   std::condition_variable wake_;  // to the worker: a command arrived
   std::condition_variable idle_;  // to waiters: the state left Running
   MethodFactory factory_;
-  uint64_t generation_ = 0;       // incremented by every start
+  uint64_t generation_ = 0;  // incremented by every start
   State state_ = State::Idle;
-  int stepsLeft_ = -1;            // -1: run freely; n >= 0: rounds before pausing
+  int stepsLeft_ = -1;  // -1: run freely; n >= 0: rounds before pausing
   bool quit_ = false;
   std::string error_;
   std::atomic<bool> cancelRound_{false};

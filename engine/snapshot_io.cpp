@@ -73,8 +73,7 @@ std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapsho
     written.push_back("prediction.exr");
     written.push_back("prediction.png");
   }
-  map("bias", snap.bias,
-      {"bias", MapStyle::Continuous, 0.0f, std::max(1.0f, 0.0f), {}});
+  map("bias", snap.bias, {"bias", MapStyle::Continuous, 0.0f, std::max(1.0f, 0.0f), {}});
   map("network_error", snap.networkError,
       {"er", MapStyle::Continuous, 0.0f, std::max(1e-3f, maxOf(snap.networkError)), {}});
   map("selected", asFloats(snap.selected),

@@ -1,9 +1,9 @@
 // `penumbra render`: renders a scene to an image file, with optional statistics.
 #include "engine/bp_method.h"
-#include "engine/snapshot_io.h"
 #include "engine/image_io.h"
 #include "engine/integrator.h"
 #include "engine/render.h"
+#include "engine/snapshot_io.h"
 #include "viewer/commands.h"
 #include "viewer/method_options.h"
 #include "viewer/progress.h"
@@ -37,6 +37,15 @@ struct RenderFlags {
   }
 };
 
+// Writes `j` to `path` atomically, indented.
+void writeJson(const std::string& path, const nlohmann::json& j) {
+  writeFileAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw ImageIoError(path + ": cannot write");
+  });
+}
+
 void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
                 const RenderResult& r, int threads) {
   nlohmann::json j;
@@ -53,11 +62,7 @@ void writeStats(const std::string& path, const RenderFlags& flags, const Scene& 
   j["mrays_per_second"] = r.seconds > 0 ? double(r.rays) / r.seconds * 1e-6 : 0.0;
   j["samples"] = r.samples;
   j["nan_samples"] = r.nonFiniteSamples;
-  writeFileAtomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw ImageIoError(path + ": cannot write");
-  });
+  writeJson(path, j);
 }
 
 void createParentDirectory(const std::string& path) {
@@ -96,8 +101,8 @@ void prepareOutputs(const RenderFlags& flags) {
 void printSummary(const RenderFlags& flags, const Scene& s, double seconds, uint64_t rays,
                   const std::string& extra) {
   if (flags.quiet) return;
-  std::printf("%s: %dx%d, %d spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(),
-              s.settings.width, s.settings.height, s.settings.spp, extra.c_str(), seconds,
+  std::printf("%s: %dx%d, %d spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(), s.settings.width,
+              s.settings.height, s.settings.spp, extra.c_str(), seconds,
               seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0);
 }
 
@@ -173,11 +178,7 @@ void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene
     if (a < alphaCounts.size()) ++alphaCounts[a];
   j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
   j["per_round"] = rounds;
-  writeFileAtomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw ImageIoError(path + ": cannot write");
-  });
+  writeJson(path, j);
 }
 
 void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
@@ -200,17 +201,18 @@ void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads)
       const auto snap = method->snapshot(false);
       size_t difficult = 0;
       for (size_t p = 0; p < snap->bias.size(); ++p)
-        difficult += snap->bias[p] > config.psi &&
-                     snap->networkError[p] > config.network.errorThreshold;
-      rounds.push_back({{"round", snap->round},
-                        {"kept_spp", double(snap->keptSamples) / pixels},
-                        {"traced_spp", double(snap->tracedSamples) / pixels},
-                        {"pixels_sampled",
-                         std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
-                        {"difficult_pixels", difficult},
-                        {"seconds", snap->seconds}});
+        difficult +=
+            snap->bias[p] > config.psi && snap->networkError[p] > config.network.errorThreshold;
+      rounds.push_back(
+          {{"round", snap->round},
+           {"kept_spp", double(snap->keptSamples) / pixels},
+           {"traced_spp", double(snap->tracedSamples) / pixels},
+           {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+           {"difficult_pixels", difficult},
+           {"seconds", snap->seconds}});
     }
-    if (!flags.quiet) bar.update(std::min(1.0, double(method->roundsDone()) / (config.maxRounds + 1)));
+    if (!flags.quiet)
+      bar.update(std::min(1.0, double(method->roundsDone()) / (config.maxRounds + 1)));
   }
   const auto snap = method->snapshot();
   bar.finish();

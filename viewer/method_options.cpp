@@ -167,10 +167,9 @@ BpConfig MethodOptions::bpConfig(int spp, uint64_t seed, SamplerKind sampler) co
   c.seed = seed;
   c.sampler = sampler;
   c.targets = targets == "pixel-mean" ? TargetMode::PixelMean : TargetMode::PerSample;
-  c.candidateMode =
-      candidateMode == "predicted" ? CandidateMode::Predicted : CandidateMode::Traced;
-  c.network.rate =
-      learningRate == "proportional" ? LearningRateMode::Proportional : LearningRateMode::BoldDriver;
+  c.candidateMode = candidateMode == "predicted" ? CandidateMode::Predicted : CandidateMode::Traced;
+  c.network.rate = learningRate == "proportional" ? LearningRateMode::Proportional
+                                                  : LearningRateMode::BoldDriver;
   c.warping = !noWarping;
   c.outlierRemoval = !noOutlierRemoval;
   c.filter.secondPass = !noSecondPass;
