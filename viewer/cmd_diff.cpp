@@ -102,7 +102,8 @@ void registerDiffCommand(CLI::App& app) {
                 "Write a false-colour map of the per-pixel relative squared error "
                 "(.png, .exr or .pfm); dark = small, bright = large, magenta = NaN/inf");
   c->add_flag("--json", flags->json,
-              "Print one JSON object (mse, rel_mse, tone_mapped_mse, psnr, max_abs_error, non_finite, width, "
+              "Print one JSON object (mse, rel_mse, tone_mapped_mse, psnr, max_abs_error, "
+              "non_finite, width, "
               "height) instead of one metric per line; undefined values are null");
   c->add_option("--exposure", flags->exposure,
                 "Scale both images by 2^STOPS before comparing, as `render --exposure` does for "

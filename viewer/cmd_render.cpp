@@ -46,10 +46,12 @@ void writeJson(const std::string& path, const nlohmann::json& j) {
   });
 }
 
-void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
-                const RenderResult& r, int threads) {
+// The statistics every method reports.
+nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, int threads,
+                           double seconds, uint64_t rays, uint64_t samples) {
   nlohmann::json j;
   j["scene"] = flags.scene.scenePath;
+  j["method"] = flags.method.method;
   j["width"] = scene.settings.width;
   j["height"] = scene.settings.height;
   j["spp"] = scene.settings.spp;
@@ -57,10 +59,16 @@ void writeStats(const std::string& path, const RenderFlags& flags, const Scene& 
   j["threads"] = threads;
   j["max_depth"] = scene.settings.maxDepth;
   j["sampler"] = flags.samplerName;
-  j["time_seconds"] = r.seconds;
-  j["rays"] = r.rays;
-  j["mrays_per_second"] = r.seconds > 0 ? double(r.rays) / r.seconds * 1e-6 : 0.0;
-  j["samples"] = r.samples;
+  j["time_seconds"] = seconds;
+  j["rays"] = rays;
+  j["mrays_per_second"] = seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0;
+  j["samples"] = samples;
+  return j;
+}
+
+void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                const RenderResult& r, int threads) {
+  nlohmann::json j = commonStats(flags, scene, threads, r.seconds, r.rays, r.samples);
   j["nan_samples"] = r.nonFiniteSamples;
   writeJson(path, j);
 }
@@ -137,20 +145,8 @@ void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene
                   const BpConfig& config, const Snapshot& snap,
                   const std::vector<nlohmann::json>& rounds, size_t memoryBytes, int threads) {
   const double pixels = double(snap.width) * snap.height;
-  nlohmann::json j;
-  j["scene"] = flags.scene.scenePath;
+  nlohmann::json j = commonStats(flags, scene, threads, snap.seconds, snap.rays, snap.keptSamples);
   j["method"] = "bp";
-  j["width"] = snap.width;
-  j["height"] = snap.height;
-  j["spp"] = scene.settings.spp;
-  j["seed"] = flags.seed;
-  j["threads"] = threads;
-  j["max_depth"] = scene.settings.maxDepth;
-  j["sampler"] = flags.samplerName;
-  j["time_seconds"] = snap.seconds;
-  j["rays"] = snap.rays;
-  j["mrays_per_second"] = snap.seconds > 0 ? double(snap.rays) / snap.seconds * 1e-6 : 0.0;
-  j["samples"] = snap.keptSamples;
   j["kept_spp"] = double(snap.keptSamples) / pixels;
   j["traced_spp"] = double(snap.tracedSamples) / pixels;
   j["coarse_spp"] = config.effectiveCoarseSpp();
