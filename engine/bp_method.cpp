@@ -778,6 +778,17 @@ std::string BpConfig::validate() const {
   return {};
 }
 
+void applyBpPreset(BpConfig& config, BpPreset preset) {
+  const BpConfig paper;
+  const bool tuned = preset == BpPreset::Tuned;
+  config.outlierRemoval = tuned ? false : paper.outlierRemoval;
+  config.warping = tuned ? false : paper.warping;
+  config.stratifiedMean = tuned ? false : paper.stratifiedMean;
+  config.filter.sigmaC = tuned ? 0.05f : paper.filter.sigmaC;
+}
+
+const char* toString(BpPreset preset) { return preset == BpPreset::Tuned ? "tuned" : "paper"; }
+
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
                                                 const BpConfig& config) {
   return std::make_unique<BpMethod>(prepared, config);

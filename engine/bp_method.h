@@ -63,6 +63,16 @@ struct BpConfig {
   std::string validate() const;
 };
 
+// Named configurations. Paper: ALGORITHM.md's recommended resolutions (the defaults of
+// BpConfig). Tuned: our deviation, measured in docs/RESULTS.md to beat low-discrepancy
+// sampling on the four paper scenes: no best-of-N candidate choice (it biases towards the
+// slice's majority value), no warping, the plain pixel mean (the stratified mean of few
+// samples per slice loses the lens/time stratification) and a tighter range falloff
+// sigma_c = 0.05 (0.3 blurs texture).
+enum class BpPreset { Paper, Tuned };
+void applyBpPreset(BpConfig& config, BpPreset preset);
+const char* toString(BpPreset preset);
+
 // Creates the BP method on a prepared scene (which must outlive it). Throws
 // std::invalid_argument with validate()'s message on a bad configuration.
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,

@@ -3,12 +3,12 @@
 
 For each scene at the paper's spp (ALGORITHM.md section 12) and each seed, renders
   LD at equal kept spp, LD at BP's traced spp (equal rays per pixel), LD at 64 spp on tire,
-  BP (defaults, reconstructed), BP sampling only (its raw estimate), and the ablation
-  BP --no-outlier-removal,
+  BP (defaults, reconstructed), BP sampling only (its raw estimate), and the same two for
+  BP --preset tuned,
 and compares each with a high-spp LD reference: linear MSE, relative MSE and tone-mapped
 MSE, averaged over the seeds (with the standard deviation). Prints a Markdown table.
 
-Usage: scripts/bp_results.py [--penumbra build/penumbra] [--refs out/ref] [--ref-spp 4096]
+Usage: scripts/bp_results.py [--penumbra build/penumbra] [--refs out/ref] [--ref-spp 2048]
                              [--seeds 3] [--scenes stairs,balls,tire,dragon] [--out FILE]
 Missing references are rendered first (minutes per scene on 2 cores).
 """
@@ -45,7 +45,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--penumbra", default="build/penumbra")
     ap.add_argument("--refs", default="out/ref")
-    ap.add_argument("--ref-spp", type=int, default=4096)
+    ap.add_argument("--ref-spp", type=int, default=2048)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--scenes", default="stairs,balls,tire,dragon")
     ap.add_argument("--out", default="")
@@ -86,10 +86,11 @@ def main():
             add("BP", base + "_bp.exr", base + "_bp.json")
             add("BP sampling only (raw)", base + "_bpraw.exr", base + "_bp.json")
             traced = round(json.load(open(base + "_bp.json"))["traced_spp"])
-            run([args.penumbra, "render", path, "--method", "bp", "--spp", str(spp),
-                 "--no-outlier-removal", "-o", base + "_bpn.exr",
-                 "--stats", base + "_bpn.json"] + common)
-            add("BP --no-outlier-removal", base + "_bpn.exr", base + "_bpn.json")
+            run([args.penumbra, "render", path, "--method", "bp", "--preset", "tuned",
+                 "--spp", str(spp), "-o", base + "_bpt.exr", "--raw-out", base + "_bptraw.exr",
+                 "--stats", base + "_bpt.json"] + common)
+            add("BP --preset tuned", base + "_bpt.exr", base + "_bpt.json")
+            add("BP tuned sampling only (raw)", base + "_bptraw.exr", base + "_bpt.json")
             ld_spps = [("LD", spp), ("LD equal traced", traced)]
             if scene == "tire":
                 ld_spps.append(("LD@64", 64))

@@ -147,6 +147,10 @@ void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene
   const double pixels = double(snap.width) * snap.height;
   nlohmann::json j = commonStats(flags, scene, threads, snap.seconds, snap.rays, snap.keptSamples);
   j["method"] = "bp";
+  j["preset"] = flags.method.preset;
+  j["config"] = {{"outlier_removal", config.outlierRemoval}, {"warping", config.warping},
+                 {"stratified_mean", config.stratifiedMean}, {"sigma_c", config.filter.sigmaC},
+                 {"inputs", config.network.inputs},          {"nit", config.network.epochs}};
   j["kept_spp"] = double(snap.keptSamples) / pixels;
   j["traced_spp"] = double(snap.tracedSamples) / pixels;
   j["coarse_spp"] = config.effectiveCoarseSpp();

@@ -14,7 +14,9 @@ namespace penumbra {
 
 struct MethodOptions {
   std::string method = "ld";
-  BpConfig bp;  // defaults = the recommended values
+  std::string preset = "paper";
+  BpConfig bp;                                // defaults = the recommended values
+  const CLI::Option* sigmaCOption = nullptr;  // given explicitly, it overrides the preset
   std::string targets = "per-sample";
   std::string candidateMode = "traced";
   std::string learningRate = "bold";

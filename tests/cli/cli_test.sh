@@ -85,6 +85,11 @@ grep -q '"kept_spp": 8.0' "$work/bp.json" && passes=$((passes + 1)) || { echo "F
 "$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp2.pfm" --threads 2 -q
 cmp -s "$work/bp.pfm" "$work/bp2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the bp image"; failures=$((failures + 1)); }
 expect_ok "bp ablations" "$penumbra" render "$cornell" --method bp --size 16x16 --spp 8 -o "$work/bpa.exr" -q --inputs 5 --targets pixel-mean --prediction-draws 1 --candidate-mode predicted --no-warping --no-outlier-removal --no-second-pass --plain-mean --no-top-up --no-reconstruct --learning-rate proportional
+expect_ok "bp tuned preset" "$penumbra" render "$cornell" --method bp --preset tuned --size 16x16 --spp 8 -o "$work/bpt.exr" --stats "$work/bpt.json" -q
+grep -q '"preset": "tuned"' "$work/bpt.json" && grep -q '"traced_spp": 8.0' "$work/bpt.json" && passes=$((passes + 1)) || { echo "FAIL: tuned preset stats"; failures=$((failures + 1)); }
+"$penumbra" render "$cornell" --method bp --preset tuned --sigma-c 0.2 --size 16x16 --spp 8 -o "$work/bpt2.exr" --stats "$work/bpt2.json" -q
+grep -q '"sigma_c": 0.2' "$work/bpt2.json" && passes=$((passes + 1)) || { echo "FAIL: --sigma-c does not override the preset"; failures=$((failures + 1)); }
+expect_fail "bad preset" "--preset" "$penumbra" render "$cornell" --method bp --preset best -o "$work/x.png"
 expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --phi 0.3,0.5
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
 expect_fail "aov dir needs bp" "--aov-dir needs --method bp" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"

@@ -290,6 +290,37 @@ TEST(BpMethod, RejectsABadConfigurationWithTheFlagName) {
   EXPECT_THROW(makeBpMethod(*prepared, config), std::invalid_argument);
 }
 
+TEST(BpPreset, TunedChangesOnlyItsFourSettingsAndPaperRestoresThem) {
+  BpConfig config;
+  config.network.epochs = 17;  // not part of any preset: kept
+  applyBpPreset(config, BpPreset::Tuned);
+  EXPECT_FALSE(config.outlierRemoval);
+  EXPECT_FALSE(config.warping);
+  EXPECT_FALSE(config.stratifiedMean);
+  EXPECT_FLOAT_EQ(config.filter.sigmaC, 0.05f);
+  EXPECT_EQ(config.network.epochs, 17);
+  EXPECT_EQ(config.candidates, BpConfig{}.candidates);
+  applyBpPreset(config, BpPreset::Paper);
+  const BpConfig paper;
+  EXPECT_EQ(config.outlierRemoval, paper.outlierRemoval);
+  EXPECT_EQ(config.warping, paper.warping);
+  EXPECT_EQ(config.stratifiedMean, paper.stratifiedMean);
+  EXPECT_FLOAT_EQ(config.filter.sigmaC, paper.filter.sigmaC);
+  EXPECT_STREQ(toString(BpPreset::Tuned), "tuned");
+}
+
+TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
+  auto prepared = loadScaled("cornell", 12);
+  BpConfig config;
+  config.spp = 8;
+  config.seed = 5;
+  applyBpPreset(config, BpPreset::Tuned);
+  auto method = makeBpMethod(*prepared, config);
+  const auto snap = runToEnd(*method);
+  EXPECT_EQ(snap->keptSamples, 8u * 12 * 12);
+  EXPECT_EQ(snap->tracedSamples, snap->keptSamples);  // no candidates traced and dropped
+}
+
 TEST(LdMethod, FinalImageEqualsRenderImage) {
   auto prepared = loadScaled("cornell", 16);
   LdConfig config;
