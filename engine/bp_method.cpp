@@ -47,7 +47,10 @@ struct PixelState {
   float er = 0.0f;
   vec3 prediction{0.0f};
   int8_t sliceB = -1, sliceC = -1;
+  bool warped = false;
   uint8_t alpha = 0;
+  uint32_t addedLastRound = 0;
+  float contrast = 0.0f;
 };
 
 // One traced camera sample, for the sampling pass.
@@ -178,7 +181,70 @@ class BpMethod final : public ProgressiveMethod {
     return snap;
   }
 
+  void setInspectedPixel(int x, int y) override {
+    inspected_ = (x >= 0 && y >= 0 && x < width_ && y < height_) ? int64_t(y) * width_ + x : -1;
+  }
+
+  PixelInspection inspect(int x, int y) const override {
+    PixelInspection in;
+    if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
+    const size_t p = size_t(y) * width_ + x;
+    const PixelState& s = pixels_[p];
+    in.valid = true;
+    in.x = x;
+    in.y = y;
+    in.round = rounds_;
+    in.method = "bp";
+    in.estimate = pixelEstimate(p);
+    in.meanMapped = s.kept ? vec3(s.sumT / double(s.kept)) : vec3(0.0f);
+    in.prediction = s.prediction;
+    in.bias = s.bias;
+    in.networkError = s.er;
+    in.psi = config_.psi;
+    in.errorThreshold = config_.network.errorThreshold;
+    in.kept = s.kept;
+    in.traced = s.traced;
+    in.addedLastRound = s.addedLastRound;
+    in.slicesPerSide = config_.slicesPerSide;
+    in.sliceB = s.sliceB;
+    in.sliceC = s.sliceC;
+    in.warped = s.warped;
+    in.contrast = s.contrast;
+    for (int i = 0; i < slicesPerPixel_; ++i) {
+      const SliceStats& st = slices_[p * slicesPerPixel_ + i];
+      in.slices.push_back({st.count, float(st.meanV()), float(fDivergence(st))});
+    }
+    for (const StoredSample& st : samples_[p])
+      in.samples.push_back({st.dx + 0.5f, st.dy + 0.5f, st.value, st.radiance, st.slice});
+    if (int64_t(p) == inspected_) in.candidates = inspectedCandidates_;
+    const auto it = std::find(lastOrder_.begin(), lastOrder_.end(), uint32_t(p));
+    in.rankedPixels = lastOrder_.size();
+    if (it != lastOrder_.end()) in.rank = int(it - lastOrder_.begin());
+    in.reason = reasonFor(in, s);
+    return in;
+  }
+
  private:
+  // One line for the inspector: the test the pixel passed or failed and what it got.
+  std::string reasonFor(const PixelInspection& in, const PixelState& s) const {
+    char text[256];
+    const bool converged = s.er <= config_.network.errorThreshold;
+    const bool difficult = !converged && s.bias > config_.psi;
+    const char* cls = difficult   ? "difficult (bias > psi, er > e)"
+                      : converged ? "converged (er <= e), ranked by er after the others"
+                                  : "not difficult (bias <= psi), topped up by bias";
+    if (rounds_ == 1) {
+      std::snprintf(text, sizeof text, "coarse pass: %u samples; now %s", s.kept, cls);
+    } else if (in.addedLastRound > 0) {
+      std::snprintf(text, sizeof text, "%s; rank %d of %zu got %u samples last round", cls,
+                    in.rank + 1, in.rankedPixels, in.addedLastRound);
+    } else {
+      std::snprintf(text, sizeof text, "%s; rank %d of %zu: the round's budget ran out first", cls,
+                    in.rank + 1, in.rankedPixels);
+    }
+    return text;
+  }
+
   // --- Samples -----------------------------------------------------------------------
 
   // Starts draw `index` of pixel (px, py) with its image offset placed at local position
@@ -346,9 +412,11 @@ class BpMethod final : public ProgressiveMethod {
   void adaptiveRound(const std::atomic<bool>* cancel) {
     auto start = Clock::now();
     const uint64_t budget = roundBudget();
-    const std::vector<uint32_t> order = rankPixels();
+    std::vector<uint32_t> order = rankPixels();
     const std::vector<uint32_t> slots =
         bp::allocateSlots(order, pixelCount_, budget, slicesPerPixel_);
+    lastOrder_ = std::move(order);
+    inspectedCandidates_.clear();
     std::vector<uint32_t> chosen;
     for (uint32_t p = 0; p < pixelCount_; ++p) {
       selected_[p] = slots[p] > 0;
@@ -377,6 +445,9 @@ class BpMethod final : public ProgressiveMethod {
     for (size_t p = 0; p < pixelCount_; ++p) {
       pixels_[p].sliceB = slots[p] ? int8_t(choices[p].b) : int8_t(-1);
       pixels_[p].sliceC = slots[p] ? int8_t(choices[p].c) : int8_t(-1);
+      pixels_[p].warped = slots[p] && choices[p].warp;
+      pixels_[p].contrast = slots[p] ? float(choices[p].contrast) : 0.0f;
+      pixels_[p].addedLastRound = 0;
     }
     times_.select += secondsSince(start);
 
@@ -392,8 +463,10 @@ class BpMethod final : public ProgressiveMethod {
                         for (size_t i = range.begin(); i < range.end(); ++i) {
                           const uint32_t p = chosen[i];
                           const uint32_t before = pixels_[p].traced;
+                          const uint32_t keptBefore = pixels_[p].kept;
                           localSpent += samplePixel(p, slots[p], choices[p], sampler, counters);
                           localTraced += pixels_[p].traced - before;
+                          pixels_[p].addedLastRound = pixels_[p].kept - keptBefore;
                         }
                         counters_.rays += counters.rays;
                         spent += localSpent;
@@ -434,6 +507,14 @@ class BpMethod final : public ProgressiveMethod {
     uint64_t used = 0;
     std::vector<float> sliceValues;
     float x[kMaxNetInputs];
+    // Only the inspected pixel records its candidates, and only one thread samples a pixel.
+    const bool record = int64_t(p) == inspected_;
+    auto recordCandidate = [&](const CameraSample& cs, float value, double score, int target,
+                               int from) {
+      if (!record) return;
+      inspectedCandidates_.push_back(
+          {cs.imageX - float(px), cs.imageY - float(py), value, float(score), target, from, false});
+    };
     for (uint32_t slot = 0; slot < slotCount; ++slot) {
       const auto [target, from] = order[slot % order.size()];
       sliceValues.clear();
@@ -447,6 +528,7 @@ class BpMethod final : public ProgressiveMethod {
         bool have = false;
         double best = 0.0;
         StoredSample bestSample{};
+        size_t bestRecord = inspectedCandidates_.size();
         for (int c = 0; c < candidates; ++c) {
           const CameraSample cs = drawCandidate(sampler, px, py, state.drawn++, target, from);
           const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
@@ -461,9 +543,12 @@ class BpMethod final : public ProgressiveMethod {
             have = true;
             best = sc;
             bestSample = s;
+            bestRecord = inspectedCandidates_.size();
           }
+          recordCandidate(cs, s.value, sc, target, from);
         }
         if (have) keepSample(p, bestSample);
+        if (record && have) inspectedCandidates_[bestRecord].kept = true;
         ++used;  // a slot whose candidates were all non-finite is spent and dropped
         continue;
       }
@@ -481,7 +566,9 @@ class BpMethod final : public ProgressiveMethod {
           best = sc;
           bestIndex = index;
         }
+        recordCandidate(cs, v, sc, target, from);
       }
+      const size_t predictedFirst = inspectedCandidates_.size() - (record ? candidates : 0);
       const CameraSample cs = drawCandidate(sampler, px, py, bestIndex, target, from);
       const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
       ++state.traced;
@@ -499,6 +586,8 @@ class BpMethod final : public ProgressiveMethod {
         continue;
       }
       keepSample(p, s);
+      if (record)
+        inspectedCandidates_[predictedFirst + (bestIndex + candidates - state.drawn)].kept = true;
       ++used;
     }
     return used;
@@ -614,6 +703,9 @@ class BpMethod final : public ProgressiveMethod {
   std::vector<glm::dvec3> sliceSumL_;
   std::vector<PixelNet> nets_;
   std::vector<uint8_t> selected_;
+  std::vector<uint32_t> lastOrder_;  // the last round's ranking
+  std::atomic<int64_t> inspected_{-1};
+  std::vector<InspectedCandidate> inspectedCandidates_;
 
   int rounds_ = 0;
   int adaptiveRounds_ = 0;
@@ -681,6 +773,7 @@ class LdMethod final : public ProgressiveMethod {
                         counters_.nonFinite += nonFinite;
                       });
     if (cancel && cancel->load()) return;
+    lastAdded_ = last - drawn_;
     drawn_ = last;
     ++rounds_;
     times_.trace += secondsSince(start);
@@ -693,6 +786,23 @@ class LdMethod final : public ProgressiveMethod {
   int roundsDone() const override { return rounds_; }
   size_t memoryBytes() const override {
     return mean_.capacity() * sizeof(glm::dvec3) + count_.capacity() * sizeof(uint32_t);
+  }
+
+  PixelInspection inspect(int x, int y) const override {
+    PixelInspection in;
+    if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
+    const size_t p = size_t(y) * width_ + x;
+    in.valid = true;
+    in.x = x;
+    in.y = y;
+    in.round = rounds_;
+    in.method = "ld";
+    in.estimate = vec3(mean_[p]);
+    in.kept = count_[p];
+    in.traced = drawn_;
+    in.addedLastRound = lastAdded_;
+    in.reason = "low-discrepancy sampling: every pixel gets the same samples each round";
+    return in;
   }
 
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
@@ -725,6 +835,7 @@ class LdMethod final : public ProgressiveMethod {
   std::vector<glm::dvec3> mean_;
   std::vector<uint32_t> count_;
   uint32_t drawn_ = 0;
+  uint32_t lastAdded_ = 0;
   int rounds_ = 0;
   Counters counters_;
   PhaseTimes times_;

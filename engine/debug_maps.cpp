@@ -379,17 +379,19 @@ int drawText(Image& image, int x, int y, const std::string& text, vec3 color, in
   return clampToInt(textWidth(text.size(), scale));
 }
 
-Image drawMapWithLegend(std::span<const float> values, int width, int height,
-                        const MapLegend& legend) {
+namespace {
+
+void requireMapSize(std::span<const float> values, int width, int height, const MapLegend& legend) {
   if (width < 0 || height < 0 || values.size() != size_t(width) * size_t(height))
     throw std::invalid_argument("debug map '" + legend.title +
                                 "': " + std::to_string(values.size()) + " values for a " +
                                 std::to_string(width) + "x" + std::to_string(height) + " map");
-  const int stripWidth = std::max(width, kMinStripWidth);
-  const int s = legendScale(stripWidth);
+}
 
+// Per-pixel colours and the legend items (categorical maps) of a map.
+std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend& legend,
+                                 std::vector<LegendItem>* items) {
   std::vector<vec3> colors(values.size());
-  std::vector<LegendItem> items;
   if (legend.style == MapStyle::Continuous) {
     const float span = legend.maxValue - legend.minValue;
     for (size_t i = 0; i < values.size(); ++i) {
@@ -402,33 +404,53 @@ Image drawMapWithLegend(std::span<const float> values, int width, int height,
       const float t = span != 0.0f ? (v - legend.minValue) / span : (v > legend.minValue ? 1 : 0);
       colors[i] = viridisLinear(t);
     }
-  } else {
-    const int labelled = int(std::min<size_t>(legend.labels.size(), INT_MAX));
-    bool anyNone = false;
-    std::set<int> unlabelled;
-    for (size_t i = 0; i < values.size(); ++i) {
-      const int category = categoryOf(values[i]);
-      if (category < 0) {
-        anyNone = true;
-        colors[i] = noneColor();
-        continue;
-      }
-      colors[i] = categoryColor(category, std::max(labelled, category + 1));
-      if (category >= labelled) unlabelled.insert(category);
-    }
-    const int count = std::max(labelled, unlabelled.empty() ? 0 : *unlabelled.rbegin() + 1);
-    for (int i = 0; i < labelled; ++i)
-      items.push_back({true, categoryColor(i, count), legend.labels[size_t(i)]});
-    size_t shown = 0;
-    for (int category : unlabelled) {
-      if (shown++ == kMaxUnlabelledSwatches) break;
-      items.push_back({true, categoryColor(category, count), std::to_string(category)});
-    }
-    if (unlabelled.size() > kMaxUnlabelledSwatches)
-      items.push_back({false, vec3(0.0f),
-                       "+" + std::to_string(unlabelled.size() - kMaxUnlabelledSwatches) + " more"});
-    if (anyNone) items.push_back({true, noneColor(), "none"});
+    return colors;
   }
+  const int labelled = int(std::min<size_t>(legend.labels.size(), INT_MAX));
+  bool anyNone = false;
+  std::set<int> unlabelled;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const int category = categoryOf(values[i]);
+    if (category < 0) {
+      anyNone = true;
+      colors[i] = noneColor();
+      continue;
+    }
+    colors[i] = categoryColor(category, std::max(labelled, category + 1));
+    if (category >= labelled) unlabelled.insert(category);
+  }
+  if (!items) return colors;
+  const int count = std::max(labelled, unlabelled.empty() ? 0 : *unlabelled.rbegin() + 1);
+  for (int i = 0; i < labelled; ++i)
+    items->push_back({true, categoryColor(i, count), legend.labels[size_t(i)]});
+  size_t shown = 0;
+  for (int category : unlabelled) {
+    if (shown++ == kMaxUnlabelledSwatches) break;
+    items->push_back({true, categoryColor(category, count), std::to_string(category)});
+  }
+  if (unlabelled.size() > kMaxUnlabelledSwatches)
+    items->push_back({false, vec3(0.0f),
+                      "+" + std::to_string(unlabelled.size() - kMaxUnlabelledSwatches) + " more"});
+  if (anyNone) items->push_back({true, noneColor(), "none"});
+  return colors;
+}
+
+}  // namespace
+
+Image mapColors(std::span<const float> values, int width, int height, const MapLegend& legend) {
+  requireMapSize(values, width, height, legend);
+  Image image(width, height);
+  image.pixels = colorsAndItems(values, legend, nullptr);
+  return image;
+}
+
+Image drawMapWithLegend(std::span<const float> values, int width, int height,
+                        const MapLegend& legend) {
+  requireMapSize(values, width, height, legend);
+  const int stripWidth = std::max(width, kMinStripWidth);
+  const int s = legendScale(stripWidth);
+  std::vector<LegendItem> items;
+  const std::vector<vec3> colors = colorsAndItems(values, legend, &items);
 
   ItemLayout layout;
   int stripHeight = kStripHeight * s;

@@ -28,10 +28,15 @@ vec3 categoryColor(int index, int count);
 
 // The map in false colour (linear RGB, so writeImage's sRGB encoding shows the intended
 // colours), `width` x `height`, with a legend strip appended below; the strip is at least
-// 200 pixels wide (narrow maps are padded on the right with dark grey).
+// 200 pixels wide (narrow maps are padded on the right with dark grey). With no values and
+// height 0 the result is the legend strip alone, `width` wide.
 // Throws std::invalid_argument if values.size() != width * height.
 Image drawMapWithLegend(std::span<const float> values, int width, int height,
                         const MapLegend& legend);
+
+// The map's per-pixel colours alone (linear RGB, as drawMapWithLegend draws them), for a
+// viewer that draws the legend elsewhere. Throws std::invalid_argument on a size mismatch.
+Image mapColors(std::span<const float> values, int width, int height, const MapLegend& legend);
 
 // Draws `text` into `image` with the top-left corner at (x, y), clipped to the image, in
 // `color`, at integer `scale`. Returns the width in pixels drawn.

@@ -41,21 +41,40 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
 // Per bounce: light choice (1D), light point (2D), BSDF direction (2D), lobe (1D), roulette (1D).
 }  // namespace
 
-std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
-  auto prepared = std::make_unique<PreparedScene>();
+namespace {
+
+// Camera frame and the flags that follow from the camera.
+void setCamera(PreparedScene& prepared) {
+  const Scene& s = prepared.scene;
   try {
-    prepared->camera = makeCameraFrame(scene.camera, scene.settings.width, scene.settings.height);
+    prepared.camera = makeCameraFrame(s.camera, s.settings.width, s.settings.height);
   } catch (const std::invalid_argument& e) {
-    throw SceneError(scene.sourcePath + ": camera: " + e.what());
+    throw SceneError(s.sourcePath + ": camera: " + e.what());
   }
-  prepared->scene = std::move(scene);
-  prepared->accel = std::make_unique<Accel>(prepared->scene);
-  prepared->lights = buildLightSampler(prepared->scene);
-  prepared->usesLens = prepared->camera.lensRadius > 0;
-  const Scene& s = prepared->scene;
-  prepared->usesTime =
+  prepared.usesLens = prepared.camera.lensRadius > 0;
+  prepared.usesTime =
       s.camera.shutterClose > s.camera.shutterOpen &&
       std::any_of(s.meshes.begin(), s.meshes.end(), [](const Mesh& m) { return m.timeSteps > 1; });
+}
+
+}  // namespace
+
+std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = std::move(scene);
+  setCamera(*prepared);  // first: a bad camera fails before the BVH is built
+  prepared->accel = std::make_shared<const Accel>(prepared->scene);
+  prepared->lights = buildLightSampler(prepared->scene);
+  return prepared;
+}
+
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera) {
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = base.scene;
+  prepared->scene.camera = camera;
+  setCamera(*prepared);
+  prepared->accel = base.accel;
+  prepared->lights = base.lights;
   return prepared;
 }
 

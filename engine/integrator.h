@@ -18,7 +18,7 @@ namespace penumbra {
 // A scene ready to trace: acceleration structure, light sampler and camera frame.
 struct PreparedScene {
   Scene scene;
-  std::unique_ptr<Accel> accel;
+  std::shared_ptr<const Accel> accel;  // shared by the views of one scene (prepareView)
   LightSampler lights;
   CameraFrame camera;
   bool usesLens = false;  // thin lens with a radius
@@ -27,6 +27,10 @@ struct PreparedScene {
 
 // Builds the BVH and light tables; throws SceneError on an unusable camera.
 std::unique_ptr<PreparedScene> prepareScene(Scene scene);
+// The same scene seen through another camera: shares base's BVH, copies the rest (no
+// rebuild, so a viewer can restart on a camera move at once). Throws SceneError on an
+// unusable camera.
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera);
 
 struct PathCounters {
   uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays

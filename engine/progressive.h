@@ -51,6 +51,51 @@ struct Snapshot {
   std::string method;
 };
 
+// Why one pixel got its samples: what the pixel inspector shows. Positions are offsets
+// inside the pixel in [0,1)^2 (x right, y down); values are tone-mapped luminances v.
+struct InspectedSample {
+  float ox = 0, oy = 0;
+  float value = 0;
+  vec3 radiance{0.0f};  // linear
+  int slice = 0;
+};
+struct InspectedCandidate {
+  float ox = 0, oy = 0;
+  float value = 0;        // traced (or, in predicted mode, predicted) v
+  float score = 0;        // eq. 16
+  int slice = 0;          // the slice it was drawn for
+  int mirroredFrom = -1;  // slice B when warped from it, else -1
+  bool kept = false;
+};
+struct InspectedSlice {
+  uint32_t count = 0;
+  float meanValue = 0;
+  float fDivergence = 0;  // eq. 15
+};
+struct PixelInspection {
+  bool valid = false;
+  int x = -1, y = -1;
+  int round = 0;  // rounds completed when it was taken
+  std::string method;
+  vec3 estimate{0.0f};                // the pixel's raw estimate, linear
+  vec3 meanMapped{0.0f};              // I (eq. 12), tone-mapped
+  vec3 prediction{0.0f};              // I', tone-mapped (BP)
+  float bias = 0, networkError = 0;   // BP
+  float psi = 0, errorThreshold = 0;  // the thresholds bias and er were compared with
+  uint32_t kept = 0, traced = 0;
+  uint32_t addedLastRound = 0;  // kept samples the last round added
+  int rank = -1;                // place in the last round's ranking, from 0; -1: none
+  size_t rankedPixels = 0;      // how many pixels that ranking held
+  int slicesPerSide = 1;
+  int sliceB = -1, sliceC = -1;
+  bool warped = false;
+  float contrast = 0;  // eq. 14 of the chosen pair
+  std::vector<InspectedSlice> slices;
+  std::vector<InspectedSample> samples;        // the stored samples (at most the reservoir)
+  std::vector<InspectedCandidate> candidates;  // last round's, for this pixel
+  std::string reason;                          // one line: why the pixel was (or was not) sampled
+};
+
 class ProgressiveMethod {
  public:
   virtual ~ProgressiveMethod() = default;
@@ -65,6 +110,10 @@ class ProgressiveMethod {
   virtual std::shared_ptr<Snapshot> snapshot(bool reconstructImage = true) = 0;
   // Bytes held for per-pixel state (samples, networks, accumulators).
   virtual size_t memoryBytes() const = 0;
+  // The pixel whose candidates the next rounds record for inspect(); -1, -1 for none.
+  virtual void setInspectedPixel(int x, int y) {}
+  // The state of pixel (x, y) after the last completed round; invalid outside the image.
+  virtual PixelInspection inspect(int x, int y) const = 0;
 };
 
 }  // namespace penumbra

@@ -83,6 +83,21 @@ std::string RenderSession::error() const {
   return error_;
 }
 
+void RenderSession::inspect(int x, int y) {
+  {
+    std::lock_guard lock(mutex_);
+    inspectX_ = x;
+    inspectY_ = y;
+    inspectPending_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const PixelInspection> RenderSession::inspection() const {
+  std::lock_guard lock(mutex_);
+  return inspection_;
+}
+
 std::shared_ptr<const Snapshot> RenderSession::latest() const {
   std::lock_guard lock(mutex_);
   return latest_;
@@ -107,10 +122,34 @@ void RenderSession::worker() {
     method.reset();
     activeFactory = nullptr;
   };
+  // Takes the inspection of the asked-for pixel from the idle method (lock held on entry and
+  // exit, released while the method works).
+  auto takeInspection = [&](std::unique_lock<std::mutex>& held) {
+    const int x = inspectX_, y = inspectY_;
+    const uint64_t generation = generation_;
+    inspectPending_ = false;
+    held.unlock();
+    method->setInspectedPixel(x, y);
+    auto taken = std::make_shared<PixelInspection>(method->inspect(x, y));
+    held.lock();
+    if (generation == generation_ && x == inspectX_ && y == inspectY_) {
+      inspection_ = std::move(taken);
+      ++inspectionVersion_;
+    }
+  };
   std::unique_lock lock(mutex_);
   while (true) {
-    wake_.wait(lock, [&] { return quit_ || state_ == State::Running; });
+    wake_.wait(lock,
+               [&] { return quit_ || state_ == State::Running || (inspectPending_ && method); });
     if (quit_) return;
+    if (state_ != State::Running) {
+      // Only an inspection was asked for, between rounds.
+      if (methodGeneration == generation_)
+        takeInspection(lock);
+      else
+        inspectPending_ = false;
+      continue;
+    }
     if (state_ == State::Running && stepsLeft_ == 0) {
       state_ = State::Paused;
       idle_.notify_all();
@@ -119,9 +158,11 @@ void RenderSession::worker() {
     const uint64_t generation = generation_;
     MethodFactory factory = factory_;
     cancelRound_ = false;
+    const int inspectX = inspectX_, inspectY = inspectY_;
     lock.unlock();
 
     std::shared_ptr<Snapshot> snapshot;
+    std::shared_ptr<PixelInspection> inspection;
     bool finished = false;
     std::string failure;
     try {
@@ -131,10 +172,13 @@ void RenderSession::worker() {
         method = activeFactory();
         methodGeneration = generation;
       }
+      method->setInspectedPixel(inspectX, inspectY);
       arena.execute([&] {
         method->runRound(&cancelRound_);
         if (!cancelRound_) snapshot = method->snapshot();
       });
+      if (snapshot && inspectX >= 0)
+        inspection = std::make_shared<PixelInspection>(method->inspect(inspectX, inspectY));
       finished = method->done();
     } catch (const std::exception& e) {
       failure = e.what();
@@ -160,6 +204,11 @@ void RenderSession::worker() {
     if (snapshot) {
       latest_ = std::move(snapshot);
       ++version_;
+    }
+    if (inspection && inspectX == inspectX_ && inspectY == inspectY_) {
+      inspection_ = std::move(inspection);
+      ++inspectionVersion_;
+      inspectPending_ = false;
     }
     if (finished) {
       state_ = State::Finished;

@@ -46,6 +46,12 @@ class RenderSession {
   // that increases with every publication.
   std::shared_ptr<const Snapshot> latest() const;
   uint64_t version() const { return version_.load(); }
+  // Asks for the inspection of pixel (x, y) (-1, -1: none). It is taken after every round,
+  // and at once when no round runs; the method also records that pixel's candidates.
+  void inspect(int x, int y);
+  std::shared_ptr<const PixelInspection> inspection() const;  // null until one is taken
+  uint64_t inspectionVersion() const { return inspectionVersion_.load(); }
+
   // Blocks until the session is not Running (paused, finished, cancelled or failed) or
   // `timeoutSeconds` pass; returns whether it stopped running.
   bool wait(double timeoutSeconds = 1e30);
@@ -66,6 +72,10 @@ class RenderSession {
   std::atomic<bool> cancelRound_{false};
   std::shared_ptr<const Snapshot> latest_;
   std::atomic<uint64_t> version_{0};
+  int inspectX_ = -1, inspectY_ = -1;
+  bool inspectPending_ = false;  // a new pixel was asked for
+  std::shared_ptr<const PixelInspection> inspection_;
+  std::atomic<uint64_t> inspectionVersion_{0};
   std::thread thread_;
 };
 

@@ -44,36 +44,13 @@ std::vector<uint64_t> histogram(const std::vector<float>& values, int bins, floa
   return counts;
 }
 
-std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapshot& snap,
-                                           const std::vector<float>& alphas) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw ImageIoError(dir + ": cannot create directory: " + ec.message());
-  std::vector<std::string> written;
-  const int w = snap.width, h = snap.height;
-  const size_t n = size_t(w) * h;
-  auto image = [&](const std::string& name, const Image& img) {
-    if (img.empty()) return;
-    writeImage(dir + "/" + name + ".exr", img);
-    written.push_back(name + ".exr");
+std::vector<SnapshotMap> snapshotMaps(const Snapshot& snap, const std::vector<float>& alphas) {
+  std::vector<SnapshotMap> maps;
+  const size_t n = size_t(snap.width) * snap.height;
+  auto map = [&](const std::string& name, std::vector<float> values, MapLegend legend) {
+    if (values.size() == n) maps.push_back({name, std::move(values), std::move(legend)});
   };
-  auto map = [&](const std::string& name, const std::vector<float>& values,
-                 const MapLegend& legend) {
-    if (values.size() != n) return;
-    writeDebugMap(dir, name, values, w, h, legend);
-    written.push_back(name + ".exr");
-    written.push_back(name + ".png");
-  };
-  image("raw", snap.raw);
-  image("reconstructed", snap.reconstructed);
-  if (!snap.prediction.empty()) {
-    // I' is already tone-mapped, so its PNG is the values themselves.
-    writeImage(dir + "/prediction.exr", snap.prediction);
-    writeImage(dir + "/prediction.png", snap.prediction);
-    written.push_back("prediction.exr");
-    written.push_back("prediction.png");
-  }
-  map("bias", snap.bias, {"bias", MapStyle::Continuous, 0.0f, std::max(1.0f, 0.0f), {}});
+  map("bias", snap.bias, {"bias", MapStyle::Continuous, 0.0f, 1.0f, {}});
   map("network_error", snap.networkError,
       {"er", MapStyle::Continuous, 0.0f, std::max(1e-3f, maxOf(snap.networkError)), {}});
   map("selected", asFloats(snap.selected),
@@ -84,15 +61,44 @@ std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapsho
     sliceLabels.push_back("(" + std::to_string(i % S) + "," + std::to_string(i / S) + ")");
   map("slice_b", asFloats(snap.sliceB), {"slice B", MapStyle::Categorical, 0, 1, sliceLabels});
   map("slice_c", asFloats(snap.sliceC), {"slice C", MapStyle::Categorical, 0, 1, sliceLabels});
-  const std::vector<float> kept = asFloats(snap.keptCount);
-  map("samples", kept, {"kept spp", MapStyle::Continuous, 0.0f, std::max(1.0f, maxOf(kept)), {}});
-  const std::vector<float> traced = asFloats(snap.tracedCount);
-  map("traced", traced,
-      {"traced spp", MapStyle::Continuous, 0.0f, std::max(1.0f, maxOf(traced)), {}});
+  std::vector<float> kept = asFloats(snap.keptCount);
+  const float maxKept = std::max(1.0f, maxOf(kept));
+  map("samples", std::move(kept), {"kept spp", MapStyle::Continuous, 0.0f, maxKept, {}});
+  std::vector<float> traced = asFloats(snap.tracedCount);
+  const float maxTraced = std::max(1.0f, maxOf(traced));
+  map("traced", std::move(traced), {"traced spp", MapStyle::Continuous, 0.0f, maxTraced, {}});
   std::vector<std::string> alphaLabels;
   for (float a : alphas) alphaLabels.push_back("a=" + compact(a));
   map("alpha", asFloats(snap.alphaIndex),
       {"filter alpha", MapStyle::Categorical, 0, 1, alphaLabels});
+  return maps;
+}
+
+std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapshot& snap,
+                                           const std::vector<float>& alphas) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw ImageIoError(dir + ": cannot create directory: " + ec.message());
+  std::vector<std::string> written;
+  auto image = [&](const std::string& name, const Image& img) {
+    if (img.empty()) return;
+    writeImage(dir + "/" + name + ".exr", img);
+    written.push_back(name + ".exr");
+  };
+  image("raw", snap.raw);
+  image("reconstructed", snap.reconstructed);
+  if (!snap.prediction.empty()) {
+    // I' is already tone-mapped, so its PNG is the values themselves.
+    writeImage(dir + "/prediction.exr", snap.prediction);
+    writeImage(dir + "/prediction.png", snap.prediction);
+    written.push_back("prediction.exr");
+    written.push_back("prediction.png");
+  }
+  for (const SnapshotMap& m : snapshotMaps(snap, alphas)) {
+    writeDebugMap(dir, m.name, m.values, snap.width, snap.height, m.legend);
+    written.push_back(m.name + ".exr");
+    written.push_back(m.name + ".png");
+  }
   return written;
 }
 

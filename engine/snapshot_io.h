@@ -3,12 +3,23 @@
 // images. Used by `penumbra render --aov-dir`.
 #pragma once
 
+#include "engine/debug_maps.h"
 #include "engine/progressive.h"
 
 #include <string>
 #include <vector>
 
 namespace penumbra {
+
+// One scalar debug map of a snapshot with the legend that explains it.
+struct SnapshotMap {
+  std::string name;  // file stem: bias, network_error, selected, slice_b, slice_c, ...
+  std::vector<float> values;
+  MapLegend legend;
+};
+// The scalar maps the snapshot has (a method without a map leaves it out), in a fixed order.
+// `alphas` labels the filter-scale map.
+std::vector<SnapshotMap> snapshotMaps(const Snapshot& snapshot, const std::vector<float>& alphas);
 
 // Writes the maps the snapshot has; returns the file names written (relative to dir).
 // `alphas` labels the filter-scale map. Throws ImageIoError naming the file on failure.

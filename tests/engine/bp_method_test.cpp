@@ -321,6 +321,55 @@ TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
   EXPECT_EQ(snap->tracedSamples, snap->keptSamples);  // no candidates traced and dropped
 }
 
+TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
+  auto prepared = loadScaled("cornell", 12);
+  BpConfig config;
+  config.spp = 16;
+  config.seed = 2;
+  config.network.epochs = 10;
+  auto method = makeBpMethod(*prepared, config);
+  EXPECT_FALSE(method->inspect(3, 4).valid);  // nothing before the coarse pass
+  method->setInspectedPixel(3, 4);
+  method->runRound(nullptr);
+  PixelInspection coarse = method->inspect(3, 4);
+  ASSERT_TRUE(coarse.valid);
+  EXPECT_EQ(coarse.kept, 4u);
+  EXPECT_EQ(coarse.samples.size(), 4u);
+  EXPECT_NE(coarse.reason.find("coarse"), std::string::npos);
+  // Find a round in which the inspected pixel got samples; its candidates are recorded.
+  PixelInspection in;
+  while (!method->done()) {
+    method->runRound(nullptr);
+    in = method->inspect(3, 4);
+    if (in.addedLastRound > 0) break;
+  }
+  ASSERT_GT(in.addedLastRound, 0u) << "the pixel never got samples";
+  const auto snap = method->snapshot();
+  const size_t p = 4 * 12 + 3;
+  EXPECT_EQ(in.kept, snap->keptCount[p]);
+  EXPECT_FLOAT_EQ(in.bias, snap->bias[p]);
+  EXPECT_EQ(in.sliceB, snap->sliceB[p]);
+  EXPECT_EQ(in.slices.size(), 4u);
+  uint32_t sliceTotal = 0;
+  for (const InspectedSlice& s : in.slices) sliceTotal += s.count;
+  EXPECT_EQ(sliceTotal, in.kept);
+  for (const InspectedSample& s : in.samples) {
+    EXPECT_GE(s.ox, 0.0f);
+    EXPECT_LT(s.ox, 1.0f);
+    EXPECT_EQ(s.slice, sliceOf(s.ox, s.oy, 2));
+  }
+  // Traced mode: N_candi candidates per new sample, exactly one kept per sample added.
+  size_t keptCandidates = 0;
+  for (const InspectedCandidate& c : in.candidates) keptCandidates += c.kept;
+  EXPECT_EQ(keptCandidates, in.addedLastRound);
+  EXPECT_GE(in.candidates.size(), in.addedLastRound);
+  EXPECT_GE(in.rank, 0);
+  EXPECT_NE(in.reason.find("rank"), std::string::npos);
+  // Another pixel: no candidates recorded for it.
+  EXPECT_TRUE(method->inspect(0, 0).candidates.empty());
+  EXPECT_FALSE(method->inspect(12, 0).valid);
+}
+
 TEST(LdMethod, FinalImageEqualsRenderImage) {
   auto prepared = loadScaled("cornell", 16);
   LdConfig config;

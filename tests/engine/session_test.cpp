@@ -114,5 +114,34 @@ TEST(Session, AFailingMethodReportsItsError) {
   EXPECT_NE(session.error().find("--slices"), std::string::npos);
 }
 
+TEST(Session, InspectsAPixelAfterRoundsAndWhilePaused) {
+  RenderSession session(2);
+  session.inspect(2, 3);
+  session.start(bpFactory(cornell(8), 0, true));
+  session.pause();
+  ASSERT_TRUE(session.wait(60));
+  session.step();
+  ASSERT_TRUE(session.wait(60));
+  // Taken after the round that ran.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!session.inspection() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_NE(session.inspection(), nullptr);
+  EXPECT_EQ(session.inspection()->x, 2);
+  EXPECT_EQ(session.inspection()->y, 3);
+  // While paused, a new pixel is inspected without running a round.
+  const uint64_t version = session.version();
+  const uint64_t inspections = session.inspectionVersion();
+  session.inspect(5, 1);
+  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (session.inspectionVersion() == inspections && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_NE(session.inspection(), nullptr);
+  EXPECT_EQ(session.inspection()->x, 5);
+  EXPECT_TRUE(session.inspection()->valid);
+  EXPECT_EQ(session.version(), version);
+  EXPECT_EQ(session.state(), RenderSession::State::Paused);
+}
+
 }  // namespace
 }  // namespace penumbra
