@@ -371,6 +371,32 @@ void writeImage(const std::string& path, const Image& image, float exposureStops
   });
 }
 
+void writePng8(const std::string& path, int width, int height, int channels,
+               const std::vector<uint8_t>& data) {
+  if (lowercaseExtension(path) != ".png") fail(path, "expected a .png file name");
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      data.size() != size_t(width) * height * channels)
+    fail(path, "cannot write " + std::to_string(data.size()) + " bytes as a " +
+                   std::to_string(width) + "x" + std::to_string(height) + "x" +
+                   std::to_string(channels) + " PNG");
+  std::vector<unsigned char> bytes;
+  if (!stbi_write_png_to_func(appendToVector, &bytes, width, height, channels, data.data(),
+                              width * channels))
+    fail(path, "PNG encoding failed");
+  writeFileAtomically(path, [&](const std::string& tmpPath) {
+    writeBytes(path, tmpPath, bytes.data(), bytes.size());
+  });
+}
+
+std::vector<uint8_t> readPng8(const std::string& path, int& width, int& height) {
+  int channels = 0;
+  unsigned char* pixels = stbi_load(path.c_str(), &width, &height, &channels, 4);
+  if (!pixels) fail(path, std::string("cannot read: ") + stbi_failure_reason());
+  std::vector<uint8_t> out(pixels, pixels + size_t(width) * height * 4);
+  stbi_image_free(pixels);
+  return out;
+}
+
 void writeExrLayers(const std::string& path, int width, int height,
                     const std::vector<ExrChannel>& channels) {
   if (width <= 0 || height <= 0)

@@ -5,6 +5,7 @@
 
 #include "engine/image.h"
 
+#include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -37,6 +38,13 @@ void writeImage(const std::string& path, const Image& image, float exposureStops
 void checkWritableImagePath(const std::string& path);
 // The file extension of `path`, lower-cased, with its dot (".exr"); empty if none.
 std::string lowercaseExtension(const std::string& path);
+
+// Writes display-encoded 8-bit pixels (channels 1-4 per pixel, top row first) as PNG,
+// atomically; for screenshots, whose bytes are already what the screen shows.
+void writePng8(const std::string& path, int width, int height, int channels,
+               const std::vector<uint8_t>& data);
+// Reads an 8-bit image file as RGBA bytes, top row first, with no colour conversion.
+std::vector<uint8_t> readPng8(const std::string& path, int& width, int& height);
 
 // One named float plane of width*height values, top row first.
 using ExrChannel = std::pair<std::string, std::vector<float>>;

@@ -20,20 +20,22 @@ RenderSession::~RenderSession() {
   thread_.join();
 }
 
-void RenderSession::start(MethodFactory factory) {
+void RenderSession::start(MethodFactory factory, int rounds) {
   {
     std::lock_guard lock(mutex_);
     factory_ = std::move(factory);
     ++generation_;
     state_ = State::Running;
-    stepsLeft_ = -1;
+    stepsLeft_ = rounds < 0 ? -1 : rounds;
     error_.clear();
     cancelRound_ = true;  // the round of the previous method, if any, stops early
   }
   wake_.notify_all();
 }
 
-void RenderSession::restart(MethodFactory factory) { start(std::move(factory)); }
+void RenderSession::restart(MethodFactory factory, int rounds) {
+  start(std::move(factory), rounds);
+}
 
 void RenderSession::pause() {
   std::lock_guard lock(mutex_);

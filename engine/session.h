@@ -33,8 +33,10 @@ class RenderSession {
   RenderSession(const RenderSession&) = delete;
   RenderSession& operator=(const RenderSession&) = delete;
 
-  void start(MethodFactory factory);    // from scratch, running
-  void restart(MethodFactory factory);  // same as start: cancels what runs now
+  // From scratch, running; with rounds >= 0 it pauses after that many rounds (a headless
+  // screenshot after exactly N rounds).
+  void start(MethodFactory factory, int rounds = -1);
+  void restart(MethodFactory factory, int rounds = -1);  // same as start: cancels what runs now
   void pause();
   void resume();
   void step();  // runs one round, then pauses

@@ -10,6 +10,9 @@ packages=(
   libembree-dev libtbb-dev libglm-dev
   nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libtinyexr-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libglfw3-dev libimgui-dev python3-glad
+  libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libosmesa6-dev
+  xvfb xauth
   clang libclang-rt-14-dev
 )
 

@@ -37,15 +37,6 @@ struct RenderFlags {
   }
 };
 
-// Writes `j` to `path` atomically, indented.
-void writeJson(const std::string& path, const nlohmann::json& j) {
-  writeFileAtomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw ImageIoError(path + ": cannot write");
-  });
-}
-
 // The statistics every method reports.
 nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, int threads,
                            double seconds, uint64_t rays, uint64_t samples) {
@@ -241,6 +232,14 @@ void run(const RenderFlags& flags) {
     runLd(flags, *prepared, threads);
 }
 }  // namespace
+
+void writeJson(const std::string& path, const nlohmann::json& j) {
+  writeFileAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw ImageIoError(path + ": cannot write");
+  });
+}
 
 void registerRenderCommand(CLI::App& app) {
   auto flags = std::make_shared<RenderFlags>();

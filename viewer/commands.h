@@ -4,8 +4,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <stdexcept>
+#include <string>
 
 namespace penumbra {
 
@@ -15,5 +17,9 @@ struct CommandError : std::runtime_error {
 
 void registerRenderCommand(CLI::App& app);
 void registerDiffCommand(CLI::App& app);
+void registerViewCommand(CLI::App& app);
+
+// Writes `j` to `path` atomically, indented (cmd_render.cpp).
+void writeJson(const std::string& path, const nlohmann::json& j);
 
 }  // namespace penumbra

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
   penumbra::registerRenderCommand(app);
   penumbra::registerDiffCommand(app);
+  penumbra::registerViewCommand(app);
   // One line per error, naming the command: "penumbra render: error: --spp: ...".
   auto fail = [&](const char* message, int status) {
     const auto subs = app.get_subcommands();

@@ -4,7 +4,7 @@
 
 namespace penumbra {
 
-void addMethodOptions(CLI::App& c, MethodOptions& o) {
+void addMethodOptions(CLI::App& c, MethodOptions& o, bool batchSchedule) {
   BpConfig& bp = o.bp;
   NetworkConfig& net = bp.network;
   FilterConfig& filter = bp.filter;
@@ -115,10 +115,11 @@ void addMethodOptions(CLI::App& c, MethodOptions& o) {
       ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str()
       ->group(schedule);
-  c.add_option("--rounds", bp.maxRounds, "Adaptive rounds that spend the rest of the budget")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str()
-      ->group(schedule);
+  if (batchSchedule)
+    c.add_option("--rounds", bp.maxRounds, "Adaptive rounds that spend the rest of the budget")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str()
+        ->group(schedule);
   c.add_option("--reservoir", bp.reservoir,
                "Samples kept per pixel for training and candidate scoring (bounds memory)")
       ->check(CLI::Range(1, 1 << 16))

@@ -28,6 +28,8 @@ struct MethodOptions {
   BpConfig bpConfig(int spp, uint64_t seed, SamplerKind sampler) const;
 };
 
-void addMethodOptions(CLI::App& command, MethodOptions& options);
+// batchSchedule: also --rounds (the batch schedule's adaptive rounds); the viewer runs
+// open-ended and uses --rounds for its own purpose.
+void addMethodOptions(CLI::App& command, MethodOptions& options, bool batchSchedule = true);
 
 }  // namespace penumbra
