@@ -1,12 +1,34 @@
 #include "engine/session.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
+#include <unistd.h>
 
 #include <chrono>
 
 namespace penumbra {
 
-RenderSession::RenderSession(int threads) : threads_(threads) {
+namespace {
+
+// Lowers the priority of the calling thread only (Linux: setpriority on a thread id).
+void lowerThreadPriority() { setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 10); }
+
+// Lowers every thread that joins the arena.
+class BackgroundObserver final : public tbb::task_scheduler_observer {
+ public:
+  explicit BackgroundObserver(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) {
+    observe(true);
+  }
+  ~BackgroundObserver() override { observe(false); }
+  void on_scheduler_entry(bool) override { lowerThreadPriority(); }
+};
+
+}  // namespace
+
+RenderSession::RenderSession(int threads, bool background)
+    : threads_(threads), background_(background) {
   thread_ = std::thread([this] { worker(); });
 }
 
@@ -115,6 +137,11 @@ bool RenderSession::wait(double timeoutSeconds) {
 
 void RenderSession::worker() {
   tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
+  std::unique_ptr<BackgroundObserver> observer;
+  if (background_) {
+    lowerThreadPriority();
+    observer = std::make_unique<BackgroundObserver>(arena);
+  }
   // The factory stays alive with its method: it may own what the method refers to (the
   // prepared scene).
   MethodFactory activeFactory;

@@ -27,8 +27,11 @@ class RenderSession {
 
   enum class State { Idle, Running, Paused, Finished, Cancelled, Failed };
 
-  // threads: worker threads for the rounds (0 = all cores).
-  explicit RenderSession(int threads = 0);
+  // threads: worker threads for the rounds (0 = all cores). background: run the rounds at a
+  // lower scheduling priority (nice +10), so that an interactive thread on the same cores
+  // (the viewer's UI, a software GL rasteriser) keeps its frame rate; throughput only drops
+  // by what that thread uses.
+  explicit RenderSession(int threads = 0, bool background = false);
   ~RenderSession();  // cancels and joins
   RenderSession(const RenderSession&) = delete;
   RenderSession& operator=(const RenderSession&) = delete;
@@ -62,6 +65,7 @@ class RenderSession {
   void worker();
 
   int threads_;
+  bool background_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;  // to the worker: a command arrived
   std::condition_variable idle_;  // to waiters: the state left Running

@@ -4,7 +4,7 @@
 #include "engine/image_io.h"
 #include "viewer/commands.h"
 #include "viewer/gl/context.h"
-#include "viewer/gl/display_renderer.h"
+#include "viewer/headless.h"
 #include "viewer/method_options.h"
 #include "viewer/scene_options.h"
 #include "viewer/view_app.h"
@@ -103,9 +103,12 @@ std::string defaultScreenshot(const ViewFlags& f) {
   return "out/" + stem + "_view.png";
 }
 
-void writeReport(const std::string& path, const ViewerApp& app, const std::string& backend) {
+void writeReport(const std::string& path, const ViewerApp& app, const std::string& backend,
+                 double wallSeconds) {
   if (path.empty()) return;
   nlohmann::json j;
+  j["wall_seconds"] = wallSeconds;
+  j["frames_per_second"] = wallSeconds > 0 ? double(app.frameStats().frames) / wallSeconds : 0.0;
   const FrameStats& f = app.frameStats();
   j["backend"] = backend;
   j["frames"] = f.frames;
@@ -126,75 +129,40 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
 // ---- Headless ----------------------------------------------------------------------------
 
 void runHeadless(const ViewFlags& f) {
-  const HeadlessBackend backend = f.backend == "egl"      ? HeadlessBackend::Egl
-                                  : f.backend == "osmesa" ? HeadlessBackend::OsMesa
-                                                          : HeadlessBackend::Auto;
-  const std::string out = f.screenshot.empty() ? defaultScreenshot(f) : f.screenshot;
-  checkWritableImagePath(out);
-  if (lowercaseExtension(out) != ".png") throw CommandError("--screenshot: expected a .png file");
-  std::unique_ptr<HeadlessContext> context;
-  try {
-    context = createHeadlessContext(backend);
-  } catch (const GlError& e) {
-    throw CommandError(e.what());
-  }
-  std::fprintf(stderr, "penumbra view: headless, %s\n", context->description().c_str());
-
-  ViewOptions options = makeOptions(f);
-  options.preview = false;
-  options.rounds = f.rounds;
-  const int imageW = options.scene->scene.settings.width;
-  const int imageH = options.scene->scene.settings.height;
-  ViewerApp app(std::move(options));
+  HeadlessRequest request;
+  request.backend = f.backend == "egl"      ? HeadlessBackend::Egl
+                    : f.backend == "osmesa" ? HeadlessBackend::OsMesa
+                                            : HeadlessBackend::Auto;
+  request.rounds = f.rounds;
+  request.withUi = f.withUi;
+  if (!f.windowSize.empty())
+    std::tie(request.width, request.height) = parseSize(f.windowSize, "--window-size");
   if (!f.inspect.empty()) {
-    int x = -1, y = -1;
     char comma = 0, extra = 0;
-    if (std::sscanf(f.inspect.c_str(), "%d%c%d%c", &x, &comma, &y, &extra) != 3 || comma != ',')
+    if (std::sscanf(f.inspect.c_str(), "%d%c%d%c", &request.inspectX, &comma, &request.inspectY,
+                    &extra) != 3 ||
+        comma != ',')
       throw CommandError("--inspect: expected X,Y, got '" + f.inspect + "'");
-    app.inspectPixel(x, y);
   }
-  while (!app.session().wait(3600)) {
-  }
-  if (app.session().state() == RenderSession::State::Failed)
-    throw CommandError("rendering failed: " + app.session().error());
-  // The inspection of the last round arrives with it; when asked after, wait for it.
-  const auto deadline = Clock::now() + std::chrono::seconds(60);
-  while (!f.inspect.empty() && app.session().inspectionVersion() == 0 && Clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  app.update();
-
-  int width = imageW, height = imageH;
-  if (!f.windowSize.empty()) {
-    std::tie(width, height) = parseSize(f.windowSize, "--window-size");
-  } else if (f.withUi) {
-    width = std::max(width, 1024);
-    height = std::max(height, 720);
-  } else {
-    height += app.legendBand(width);  // the legend goes under the image
-  }
+  const std::string out = f.screenshot.empty() ? defaultScreenshot(f) : f.screenshot;
+  if (lowercaseExtension(out) != ".png")
+    throw CommandError("--screenshot: expected a .png file, got '" + out + "'");
+  HeadlessFrame frame;
   try {
-    app.initGl(f.withUi);
-    OffscreenTarget target(width, height);
-    target.bind();
-    // ImGui lays windows out over a frame or two; the last frame is the screenshot.
-    const int frames = f.withUi ? 3 : 1;
-    for (int i = 0; i < frames; ++i) {
-      app.update();
-      app.drawFrame(width, height, f.withUi, 1.0 / 60);
-    }
-    app.writeScreenshot(out, width, height);
-    app.releaseGl();
+    frame = renderHeadless(makeOptions(f), request);
   } catch (const GlError& e) {
     throw CommandError(e.what());
   }
-  const auto snap = app.snapshot();
-  std::printf("%s: %dx%d, %s, %d rounds, %s, overlay %s\n", out.c_str(), width, height,
-              snap ? snap->method.c_str() : "-", snap ? snap->round : 0, context->backendName(),
-              overlayName(app.options().overlay));
-  if (!app.overlayImage().unavailable.empty())
-    std::fprintf(stderr, "penumbra view: overlay %s unavailable: %s\n",
-                 overlayName(app.options().overlay), app.overlayImage().unavailable.c_str());
-  writeReport(f.report, app, context->backendName());
+  std::fprintf(stderr, "penumbra view: headless, %s\n", frame.description.c_str());
+  if (!frame.failure.empty()) throw CommandError("rendering failed: " + frame.failure);
+  writePng8(out, frame.width, frame.height, 3, frame.rgb);
+  const auto& snap = frame.snapshot;
+  std::printf("%s: %dx%d, %s, %d rounds, %s, overlay %s\n", out.c_str(), frame.width, frame.height,
+              snap ? snap->method.c_str() : "-", snap ? snap->round : 0, frame.backend.c_str(),
+              f.overlay.c_str());
+  if (!frame.overlayUnavailable.empty())
+    std::fprintf(stderr, "penumbra view: overlay %s unavailable: %s\n", f.overlay.c_str(),
+                 frame.overlayUnavailable.c_str());
 }
 
 // ---- Window ------------------------------------------------------------------------------
@@ -302,12 +270,14 @@ void runWindow(const ViewFlags& f) {
   std::optional<InputScript> script;
   if (!f.script.empty()) script = InputScript::load(f.script);
   ViewOptions options = makeOptions(f);
+  options.background = true;  // the UI thread keeps its frame rate
   int width = 0, height = 0;
   if (!f.windowSize.empty()) {
     std::tie(width, height) = parseSize(f.windowSize, "--window-size");
   } else {
-    width = std::max(options.scene->scene.settings.width + 360, 1024);
-    height = std::max(options.scene->scene.settings.height + 80, 720);
+    // The image at zoom 1 right of the panel, with room for a legend below.
+    width = std::max(options.scene->scene.settings.width + 360, 900);
+    height = std::max(options.scene->scene.settings.height + 80, 640);
   }
 
   glfwSetErrorCallback([](int code, const char* text) {
@@ -336,10 +306,12 @@ void runWindow(const ViewFlags& f) {
   glfwSwapInterval(0);  // we pace frames ourselves; a blocking swap would stall input
   std::fprintf(stderr, "penumbra view: window %dx%d, %s\n", width, height, gl.c_str());
 
+  const auto opened = Clock::now();
   Window host;
   host.window = window;
   ViewerApp app(std::move(options));
   host.app = &app;
+  app.setRecordFrameTimes(false);
   glfwSetWindowUserPointer(window, &host);
   installCallbacks(window);
   int status = 0;
@@ -366,9 +338,19 @@ void runWindow(const ViewFlags& f) {
       // Hover feedback in the panel needs frames for a moment after input.
       const bool recentInput = std::chrono::duration<double>(now - host.lastInput).count() < 0.5;
       if (!host.iconified && fw > 0 && fh > 0 && (host.dirty || recentInput || f.continuous)) {
+        const auto frameStart = Clock::now();
         ImGui_ImplGlfw_NewFrame();
         app.drawFrame(fw, fh, true, dt);
+        const auto drawn = Clock::now();
+        if (std::getenv("PENUMBRA_DEBUG_FRAMES")) glFinish();
+        const auto finished = Clock::now();
         glfwSwapBuffers(window);
+        if (std::getenv("PENUMBRA_DEBUG_FRAMES"))
+          std::fprintf(stderr, "draw %.1f finish %.1f swap %.1f ms\n",
+                       std::chrono::duration<double>(drawn - frameStart).count() * 1e3,
+                       std::chrono::duration<double>(finished - drawn).count() * 1e3,
+                       std::chrono::duration<double>(Clock::now() - finished).count() * 1e3);
+        app.recordFrame(std::chrono::duration<double>(Clock::now() - frameStart).count());
         host.dirty = false;
       }
       // At most 60 frames per second; events wake the loop early.
@@ -382,7 +364,7 @@ void runWindow(const ViewFlags& f) {
   if (imguiPlatform) ImGui_ImplGlfw_Shutdown();
   app.releaseGl();
   glfwDestroyWindow(window);
-  writeReport(f.report, app, "glfw");
+  writeReport(f.report, app, "glfw", std::chrono::duration<double>(Clock::now() - opened).count());
   const FrameStats& stats = app.frameStats();
   std::fprintf(stderr, "penumbra view: %llu frames, mean %.1f ms, p95 %.1f ms, %d restarts\n",
                (unsigned long long)stats.frames,
@@ -465,8 +447,9 @@ void registerViewCommand(CLI::App& app) {
   c->add_option("--script", flags->script,
                 "Window: drive the viewer with scripted input (see viewer/view_script.h), then "
                 "close");
-  c->add_option("--report", flags->report,
-                "Write frame times, restarts and the final round as JSON on exit");
+  c->add_option(
+      "--report", flags->report,
+      "Window: write frame times, frames per second, restarts and the final round as JSON on exit");
   c->add_flag("--continuous", flags->continuous,
               "Window: redraw every frame even when nothing changed (to measure frame rate)");
   addMethodOptions(*c, flags->method, false);

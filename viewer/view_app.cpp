@@ -29,6 +29,9 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) {
 // Block size of the first preview after a restart: about 64 blocks across.
 int previewBlock(int width) { return std::clamp(width / 64, 2, 16); }
 
+// Room the panel takes on the left of the window (its width plus margins).
+constexpr int kPanelWidth = 356;
+
 }  // namespace
 
 void FrameStats::add(double seconds) {
@@ -51,7 +54,7 @@ double FrameStats::percentile(double q) const {
 ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
   if (!options_.scene) throw std::invalid_argument("ViewerApp: no scene");
   camera_ = options_.scene->scene.camera;
-  session_ = std::make_unique<RenderSession>(options_.threads);
+  session_ = std::make_unique<RenderSession>(options_.threads, options_.background);
   restart();
 }
 
@@ -145,7 +148,8 @@ bool ViewerApp::update() {
   if (version != seenVersion_) {
     seenVersion_ = version;
     snapshot_ = session_->latest();
-    if (snapshot_ && firstPreviewSeconds_ < 0)
+    // The first round after a (re)start: the preview, or the method's first round.
+    if (snapshot_ && snapshot_->round == 1 && firstPreviewSeconds_ < 0)
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
     if (snapshot_ && options_.reference && snapshot_->method != "preview") {
       const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
@@ -242,7 +246,7 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
     ImGui::Render();
     imgui_->render(ImGui::GetDrawData(), width, height);
   }
-  frameStats_.add(secondsBetween(start, Clock::now()));
+  if (recordFrameTimes_) frameStats_.add(secondsBetween(start, Clock::now()));
   if (!screenshotPath_.empty()) {
     const std::string path = screenshotPath_;
     screenshotPath_.clear();
@@ -288,13 +292,23 @@ void ViewerApp::resized(int width, int height) {
 
 void ViewerApp::fitView() {
   const int w = options_.scene->scene.settings.width, h = options_.scene->scene.settings.height;
-  // The image fits above the legend band.
+  // The image fits above the legend band and right of the panel, when there is room.
   const int band = legendStrip_.height;
+  const int panel = imgui_ && showPanel_ && width_ >= w + kPanelWidth ? kPanelWidth : 0;
   const float room = float(std::max(1, height_ - band));
-  const float fit = std::min(float(width_) / float(w), room / float(h));
+  const float fit = std::min(float(std::max(1, width_ - panel)) / float(w), room / float(h));
   zoom_ = fit >= 1.0f ? std::floor(fit) : fit;  // whole zoom steps keep pixels square and crisp
-  centerX_ = 0.5f * float(w);
+  centerX_ = 0.5f * float(w) - 0.5f * float(panel) / zoom_;
   centerY_ = 0.5f * float(h) + 0.5f * float(band) / zoom_;
+  fitted_ = true;
+}
+
+void ViewerApp::setView(float zoom, float x, float y) {
+  zoom_ = std::clamp(zoom, 0.05f, 256.0f);
+  if (x >= 0 && y >= 0) {
+    centerX_ = x;
+    centerY_ = y;
+  }
   fitted_ = true;
 }
 

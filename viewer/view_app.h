@@ -26,11 +26,12 @@ struct ViewOptions {
   std::string method = "bp";                   // "bp" or "ld"
   BpConfig bp;                                 // seed, network and filter parameters
   uint64_t seed = 0;
-  int threads = 0;      // render threads (0 = all cores)
-  int targetSpp = 0;    // stop at this average kept spp (0 = refine until stopped)
-  int roundSpp = 1;     // kept samples per pixel per round after the first
-  bool preview = true;  // a block preview before each (re)start (the window; not headless)
-  int rounds = -1;      // pause after this many rounds of each (re)start (-1: run on)
+  int threads = 0;          // render threads (0 = all cores)
+  int targetSpp = 0;        // stop at this average kept spp (0 = refine until stopped)
+  int roundSpp = 1;         // kept samples per pixel per round after the first
+  bool preview = true;      // a block preview before each (re)start (the window; not headless)
+  int rounds = -1;          // pause after this many rounds of each (re)start (-1: run on)
+  bool background = false;  // render at a lower priority than the UI thread (the window)
   std::shared_ptr<const Image> reference;
   std::string referencePath;
   Overlay overlay = Overlay::None;
@@ -80,6 +81,9 @@ class ViewerApp {
   void restart();  // with the current camera and parameters
   void setOverlay(Overlay overlay);
   void fitView();  // zoom 1 (or less to fit), centred
+  // Zoom (screen pixels per image pixel) with image position (x, y) at the centre; x < 0
+  // keeps the current centre.
+  void setView(float zoom, float x, float y);
   void inspectPixel(int x, int y);
   bool quitRequested() const { return quit_; }
   void requestQuit() { quit_ = true; }
@@ -99,6 +103,9 @@ class ViewerApp {
   int legendBand(int width);
   int restarts() const { return restarts_; }
   const FrameStats& frameStats() const { return frameStats_; }
+  // The window times whole frames (draw and swap) itself; drawFrame times only its own work.
+  void recordFrame(double seconds) { frameStats_.add(seconds); }
+  void setRecordFrameTimes(bool own) { recordFrameTimes_ = own; }
   const std::string& lastMessage() const { return message_; }
   const Camera& camera() const { return camera_; }
 
@@ -145,6 +152,7 @@ class ViewerApp {
   char savePath_[512] = "penumbra.exr";
   char screenshotField_[512] = "screenshot.png";
   FrameStats frameStats_;
+  bool recordFrameTimes_ = true;
 
   std::unique_ptr<DisplayRenderer> renderer_;
   std::unique_ptr<ImGuiRenderer> imgui_;

@@ -112,6 +112,8 @@ void progress(ViewerApp& app, const Snapshot& s) {
 void drawPanel(ViewerApp& app) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(340, 0),
+                                      ImVec2(340, ImGui::GetIO().DisplaySize.y - 16));
   ImGui::SetNextWindowBgAlpha(0.85f);
   if (!ImGui::Begin("Penumbra")) {
     ImGui::End();

@@ -34,14 +34,20 @@ int uniform(unsigned program, const char* name) { return glGetUniformLocation(pr
 }  // namespace
 
 DisplayRenderer::DisplayRenderer() {
-  displayProgram_ = buildProgram("fullscreen.vert", "display.frag");
+  std::vector<unsigned> built;
   try {
+    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag");
+    built.push_back(compositeProgram_);
+    viewProgram_ = buildProgram("fullscreen.vert", "view.frag");
+    built.push_back(viewProgram_);
     quadProgram_ = buildProgram("quad.vert", "quad.frag");
   } catch (...) {
-    glDeleteProgram(displayProgram_);
+    for (unsigned p : built) glDeleteProgram(p);
     throw;
   }
   glGenVertexArrays(1, &vao_);
+  glGenFramebuffers(1, &pictureFbo_);
+  picture_ = makeTexture();
   image_ = makeTexture();
   overlay_ = makeTexture();
   slices_ = makeTexture();
@@ -54,22 +60,61 @@ DisplayRenderer::DisplayRenderer() {
 }
 
 DisplayRenderer::~DisplayRenderer() {
-  const GLuint textures[] = {image_, overlay_, slices_, legend_};
-  glDeleteTextures(4, textures);
+  const GLuint textures[] = {image_, overlay_, slices_, legend_, picture_};
+  glDeleteTextures(5, textures);
+  glDeleteFramebuffers(1, &pictureFbo_);
   glDeleteVertexArrays(1, &vao_);
-  glDeleteProgram(displayProgram_);
+  glDeleteProgram(compositeProgram_);
+  glDeleteProgram(viewProgram_);
   glDeleteProgram(quadProgram_);
 }
 
 void DisplayRenderer::setImage(const Image& image) {
   if (image.empty()) return;
   uploadRgb(image_, image);
+  if (image.width != width_ || image.height != height_) {
+    glBindTexture(GL_TEXTURE_2D, picture_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, nullptr);
+  }
   width_ = image.width;
   height_ = image.height;
+  pictureStale_ = true;
 }
 
 void DisplayRenderer::setOverlay(const Image& colors) {
   if (!colors.empty()) uploadRgb(overlay_, colors);
+  pictureStale_ = true;
+}
+
+void DisplayRenderer::composite(const DisplayView& view) {
+  const bool same = !pictureStale_ && view.display.exposure == pictureDisplay_.exposure &&
+                    view.display.curve == pictureDisplay_.curve &&
+                    view.overlay == pictureOverlay_ && view.blend == pictureBlend_;
+  if (same || width_ <= 0 || height_ <= 0) return;
+  GLint bound = 0;
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+  glBindFramebuffer(GL_FRAMEBUFFER, pictureFbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, picture_, 0);
+  glViewport(0, 0, width_, height_);
+  const unsigned p = compositeProgram_;
+  glUseProgram(p);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, image_);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, overlay_);
+  glUniform1i(uniform(p, "image"), 0);
+  glUniform1i(uniform(p, "overlay"), 1);
+  glUniform1f(uniform(p, "exposure"), view.display.exposure);
+  glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
+  glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
+  glUniform1f(uniform(p, "blend"), view.blend);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
+  pictureStale_ = false;
+  pictureDisplay_ = view.display;
+  pictureOverlay_ = view.overlay;
+  pictureBlend_ = view.blend;
 }
 
 void DisplayRenderer::setSlices(int width, int height, const std::vector<int8_t>& b,
@@ -100,31 +145,25 @@ void DisplayRenderer::setLegend(const Image& strip) {
 
 void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
   if (width <= 0 || height <= 0) return;
-  glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(vao_);
+  composite(view);
+  glViewport(0, 0, width, height);
 
-  const unsigned p = displayProgram_;
+  const unsigned p = viewProgram_;
   glUseProgram(p);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, image_);
+  glBindTexture(GL_TEXTURE_2D, picture_);
   glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, overlay_);
-  glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, slices_);
-  glUniform1i(uniform(p, "image"), 0);
-  glUniform1i(uniform(p, "overlay"), 1);
-  glUniform1i(uniform(p, "slices"), 2);
+  glUniform1i(uniform(p, "picture"), 0);
+  glUniform1i(uniform(p, "slices"), 1);
   glUniform2f(uniform(p, "imageSize"), float(width_), float(height_));
   glUniform2f(uniform(p, "viewportSize"), float(width), float(height));
   glUniform2f(uniform(p, "viewCenter"), view.centerX, view.centerY);
   glUniform1f(uniform(p, "zoom"), std::max(view.zoom, 1e-3f));
-  glUniform1f(uniform(p, "exposure"), view.display.exposure);
-  glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
-  glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
-  glUniform1f(uniform(p, "blend"), view.blend);
   glUniform1i(uniform(p, "drawSlices"), view.slices ? 1 : 0);
   glUniform1i(uniform(p, "slicesPerSide"), view.slicesPerSide);
   glUniform2i(uniform(p, "inspected"), view.inspectedX, view.inspectedY);

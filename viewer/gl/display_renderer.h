@@ -1,7 +1,9 @@
-// Draws the viewer's picture with the shaders of shaders/: the image through the display
-// transform with the overlay blended in (display.frag), the legend strip under it
-// (quad.frag), into whatever framebuffer is bound: the window's or an offscreen one.
-// Textures are uploaded only when the caller hands over new data.
+// Draws the viewer's picture with the shaders of shaders/, into whatever framebuffer is
+// bound (the window's or an offscreen one): the image through the display transform with
+// the overlay blended in, composited at image resolution only when something changed
+// (composite.frag), then shown zoomed and panned every frame (view.frag), and the legend
+// strip along the bottom (quad.frag). Textures are uploaded only when the caller hands over
+// new data.
 #pragma once
 
 #include "engine/overlays.h"
@@ -44,10 +46,18 @@ class DisplayRenderer {
   void draw(int width, int height, const DisplayView& view);
 
  private:
-  unsigned displayProgram_ = 0, quadProgram_ = 0, vao_ = 0;
+  void composite(const DisplayView& view);
+
+  unsigned compositeProgram_ = 0, viewProgram_ = 0, quadProgram_ = 0, vao_ = 0;
   unsigned image_ = 0, overlay_ = 0, slices_ = 0, legend_ = 0;
+  unsigned picture_ = 0, pictureFbo_ = 0;  // the composited picture, image-sized
   int width_ = 0, height_ = 0;
   int legendWidth_ = 0, legendHeight_ = 0;
+  // What the picture was composited from; a difference recomposites it.
+  bool pictureStale_ = true;
+  DisplaySettings pictureDisplay_;
+  bool pictureOverlay_ = false;
+  float pictureBlend_ = -1.0f;
 };
 
 // A framebuffer object of RGBA8 for headless drawing and screenshots.

@@ -63,9 +63,9 @@ std::string shaderDirectory() {
   const std::vector<fs::path> dirs = candidateDirectories();
   for (const fs::path& d : dirs) {
     std::error_code ec;
-    if (fs::exists(d / "display.frag", ec)) return d.string();
+    if (fs::exists(d / "view.frag", ec)) return d.string();
   }
-  std::string message = "no shader folder found (display.frag); looked in:";
+  std::string message = "no shader folder found (view.frag); looked in:";
   for (const fs::path& d : dirs) message += "\n  " + d.string();
   throw GlError(message + "\nset PENUMBRA_SHADER_DIR to the shaders/ folder of the source tree");
 }
