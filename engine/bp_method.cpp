@@ -628,7 +628,8 @@ class BpMethod final : public ProgressiveMethod {
     for (size_t i = 0; i < pixels.size(); ++i) nets[i] = &nets_[pixels[i]];
     if (cancel && cancel->load()) return;
     const auto kernelStart = Clock::now();
-    trainingFlops_ += trainNetworks(config_.network, nets, batch);
+    trainingFlops_ += trainNetworks(config_.network, nets, batch, cancel);
+    if (cancel && cancel->load()) return;
     trainingSeconds_ += secondsSince(kernelStart);
 
     // I' over K lens/time draws at the pixel centre, and the bias (§5).

@@ -261,7 +261,7 @@ void trainNetworkScalar(const NetworkConfig& config, PixelNet& net, const float*
 }
 
 uint64_t trainNetworks(const NetworkConfig& config, std::span<PixelNet* const> nets,
-                       const TrainingBatch& batch) {
+                       const TrainingBatch& batch, const std::atomic<bool>* cancel) {
   const NetworkConfig c = checkedConfig(config);
   const IsaKernels& isa = isaKernels();
   const int pixelCount = std::min(int(nets.size()), batch.pixelCount());
@@ -293,6 +293,7 @@ uint64_t trainNetworks(const NetworkConfig& config, std::span<PixelNet* const> n
       return int(std::min(order.size() - first, size_t(lanes)));
     };
     for (int group = r.begin(); group < r.end(); ++group) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) break;
       const size_t first = size_t(group) * size_t(lanes);
       const int count = groupCount(first);
       if (group + 1 < r.end())

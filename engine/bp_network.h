@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -89,8 +90,10 @@ struct TrainingBatch {
 // pixels with no sample are left unchanged. Runs in parallel (oneTBB) over lane groups;
 // group membership is fixed by the batch alone. Returns the floating-point operations
 // spent in multiply-adds (2 per multiply-add), for GFLOP/s figures.
+// `cancel`, when given and set, stops the training between lane groups (the caller then
+// discards the networks' state).
 uint64_t trainNetworks(const NetworkConfig& config, std::span<PixelNet* const> nets,
-                       const TrainingBatch& batch);
+                       const TrainingBatch& batch, const std::atomic<bool>* cancel = nullptr);
 
 // The same training for one pixel without SIMD; the reference for tests.
 void trainNetworkScalar(const NetworkConfig& config, PixelNet& net, const float* inputs,

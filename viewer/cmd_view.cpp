@@ -116,6 +116,16 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
   j["p95_frame_ms"] = f.percentile(0.95) * 1e3;
   j["max_frame_ms"] = f.maxSeconds * 1e3;
   j["restarts"] = app.restarts();
+  // Restart to first picture: how soon a camera move shows something.
+  const std::vector<double>& first = app.firstPictureTimes();
+  double sum = 0, worst = 0;
+  for (double t : first) {
+    sum += t;
+    worst = std::max(worst, t);
+  }
+  j["first_pictures"] = first.size();
+  j["first_picture_ms_mean"] = first.empty() ? 0.0 : sum / double(first.size()) * 1e3;
+  j["first_picture_ms_max"] = worst * 1e3;
   const auto snap = app.snapshot();
   j["round"] = snap ? snap->round : 0;
   j["method"] = snap ? snap->method : "";

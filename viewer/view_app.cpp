@@ -32,6 +32,30 @@ int previewBlock(int width) { return std::clamp(width / 64, 2, 16); }
 // Room the panel takes on the left of the window (its width plus margins).
 constexpr int kPanelWidth = 356;
 
+// The method a (re)start runs on `view`, built on the session's worker thread from a copy
+// of the options taken at the restart (the UI thread goes on changing its own).
+std::unique_ptr<ProgressiveMethod> makeViewMethod(const PreparedScene& view, const ViewOptions& o) {
+  auto real = [&view, o]() -> std::unique_ptr<ProgressiveMethod> {
+    if (o.method == "ld") {
+      LdConfig c;
+      c.seed = o.seed;
+      c.openEnded = true;
+      c.roundSpp = o.roundSpp;
+      c.maxSpp = o.targetSpp;
+      return makeLdMethod(view, c);
+    }
+    BpConfig c = o.bp;
+    c.seed = o.seed;
+    c.openEnded = true;
+    c.roundSpp = o.roundSpp;
+    c.maxSpp = o.targetSpp;
+    return makeBpMethod(view, c);
+  };
+  if (!o.preview) return real();
+  return chainMethods(makePreviewMethod(view, o.seed, previewBlock(view.scene.settings.width)),
+                      real);
+}
+
 }  // namespace
 
 void FrameStats::add(double seconds) {
@@ -87,30 +111,6 @@ void ViewerApp::releaseGl() {
   }
 }
 
-std::unique_ptr<ProgressiveMethod> ViewerApp::makeMethod(const PreparedScene& view,
-                                                         bool preview) const {
-  std::unique_ptr<ProgressiveMethod> method;
-  auto real = [&view, o = options_]() -> std::unique_ptr<ProgressiveMethod> {
-    if (o.method == "ld") {
-      LdConfig c;
-      c.seed = o.seed;
-      c.openEnded = true;
-      c.roundSpp = o.roundSpp;
-      c.maxSpp = o.targetSpp;
-      return makeLdMethod(view, c);
-    }
-    BpConfig c = o.bp;
-    c.seed = o.seed;
-    c.openEnded = true;
-    c.roundSpp = o.roundSpp;
-    c.maxSpp = o.targetSpp;
-    return makeBpMethod(view, c);
-  };
-  if (!preview) return real();
-  return chainMethods(
-      makePreviewMethod(view, options_.seed, previewBlock(view.scene.settings.width)), real);
-}
-
 void ViewerApp::restart() {
   std::shared_ptr<const PreparedScene> view;
   try {
@@ -127,9 +127,9 @@ void ViewerApp::restart() {
     message_ = "not restarted: " + configError_;
     return;
   }
-  const bool preview = options_.preview;
-  // The factory owns the view, which the method refers to, for as long as the method runs.
-  session_->restart([this, view, preview] { return makeMethod(*view, preview); }, options_.rounds);
+  // The factory owns the view, which the method refers to, for as long as the method runs,
+  // and a copy of the options: it runs on the worker thread.
+  session_->restart([view, o = options_] { return makeViewMethod(*view, o); }, options_.rounds);
   if (inspectX_ >= 0) session_->inspect(inspectX_, inspectY_);
   ++restarts_;
   restartTime_ = Clock::now();
@@ -149,8 +149,10 @@ bool ViewerApp::update() {
     seenVersion_ = version;
     snapshot_ = session_->latest();
     // The first round after a (re)start: the preview, or the method's first round.
-    if (snapshot_ && snapshot_->round == 1 && firstPreviewSeconds_ < 0)
+    if (snapshot_ && snapshot_->round == 1 && firstPreviewSeconds_ < 0) {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
+      firstPictureTimes_.push_back(firstPreviewSeconds_);
+    }
     if (snapshot_ && options_.reference && snapshot_->method != "preview") {
       const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
                                ? snapshot_->raw

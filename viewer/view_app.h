@@ -102,6 +102,8 @@ class ViewerApp {
   // overlay); a headless screenshot adds it to the image height.
   int legendBand(int width);
   int restarts() const { return restarts_; }
+  // Seconds from each (re)start to its first picture.
+  const std::vector<double>& firstPictureTimes() const { return firstPictureTimes_; }
   const FrameStats& frameStats() const { return frameStats_; }
   // The window times whole frames (draw and swap) itself; drawFrame times only its own work.
   void recordFrame(double seconds) { frameStats_.add(seconds); }
@@ -113,7 +115,6 @@ class ViewerApp {
   friend void drawPanel(ViewerApp& app);  // view_panel.cpp
   friend void drawInspector(ViewerApp& app);
 
-  std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& view, bool preview) const;
   void setCamera(const Camera& camera);
   void refreshOverlay();
   void toScreen(double x, double y, float& imageX, float& imageY) const;
@@ -136,6 +137,7 @@ class ViewerApp {
   int restarts_ = 0;
   std::chrono::steady_clock::time_point restartTime_;
   double firstPreviewSeconds_ = -1;  // restart to first snapshot, the last restart
+  std::vector<double> firstPictureTimes_;
 
   // View and input.
   int width_ = 1, height_ = 1;  // framebuffer

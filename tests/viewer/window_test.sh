@@ -3,18 +3,20 @@
 # pixel click, camera orbit, pan, dolly and fly (each restarts rendering), resizes (to zero
 # too), minimise and restore, pause and step; it must exit 0, restart on every camera move,
 # keep drawing, and write its screenshot.
-# Usage: window_test.sh PENUMBRA SOURCE_DIR OUTPUT_DIR
+# Usage: window_test.sh PENUMBRA SOURCE_DIR OUTPUT_DIR [extra view flags...]
 set -u
 penumbra=$1 src=$2 out=$3
+shift 3
 mkdir -p "$out"
 command -v xvfb-run >/dev/null || { echo "FAIL: xvfb-run is not installed (scripts/setup.sh installs it)"; exit 1; }
 rm -f "$out/window.png" "$out/report.json"
 sed "s|SCREENSHOT|$out/window.png|" "$src/tests/viewer/window_script.txt" >"$out/script.txt"
 xvfb-run -a -s "-screen 0 1280x720x24" "$penumbra" view "$src/scenes/cornell.json" --size 128x128 \
-  --script "$out/script.txt" --report "$out/report.json" 2>&1 | tail -5
-status=${PIPESTATUS[0]}
+  --script "$out/script.txt" --report "$out/report.json" "$@" >"$out/log.txt" 2>&1
+status=$?
+tail -5 "$out/log.txt"
 failures=0
-[ "$status" -eq 0 ] || { echo "FAIL: the viewer exited with $status"; failures=$((failures + 1)); }
+[ "$status" -eq 0 ] || { echo "FAIL: the viewer exited with $status (log: $out/log.txt)"; head -60 "$out/log.txt"; failures=$((failures + 1)); }
 [ -s "$out/window.png" ] || { echo "FAIL: no screenshot at $out/window.png"; failures=$((failures + 1)); }
 [ -s "$out/report.json" ] || { echo "FAIL: no report"; exit 1; }
 field() { python3 -c "import json,sys; print(json.load(open('$out/report.json'))['$1'])"; }

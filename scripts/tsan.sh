@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The viewer's window test once under ThreadSanitizer (build-tsan/): the UI thread against
+# the render session's worker (snapshots, inspection, restarts on camera moves, pause and
+# step), driven by scripted input under Xvfb. The session runs one render thread
+# (--threads 1): oneTBB's scheduler is not built with TSan, so tasks handed between its
+# worker threads would be reported as races TSan cannot see the synchronisation of; with
+# one thread the arena has no workers. Mesa's rasteriser threads are suppressed in
+# tests/tsan.supp for the same reason. Any report in Penumbra's own code fails the run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh --no-build
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+if [ ! -f build-tsan/CMakeCache.txt ]; then
+  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DPENUMBRA_SANITIZE=thread -DPENUMBRA_BENCH=OFF >"$log" 2>&1 || { cat "$log"; exit 1; }
+fi
+cmake --build build-tsan -j "$(nproc 2>/dev/null || echo 2)" --target penumbra >"$log" 2>&1 || { cat "$log"; exit 1; }
+export TSAN_OPTIONS="halt_on_error=1:exitcode=66:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp"
+bash tests/viewer/window_test.sh "$PWD/build-tsan/penumbra" "$PWD" "$PWD/build-tsan/window" --threads 1
