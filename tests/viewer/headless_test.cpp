@@ -240,7 +240,9 @@ TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
 class ShaderDirectory : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = test::outputPath("viewer/shaders_broken");
+    // One folder per test: CTest runs the tests of this fixture in parallel processes.
+    dir_ = test::outputPath(std::string("viewer/shaders_") +
+                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     for (const auto& entry : fs::directory_iterator(test::sourcePath("shaders")))
