@@ -11,7 +11,9 @@ mkdir -p "$out"
 command -v xvfb-run >/dev/null || { echo "FAIL: xvfb-run is not installed (scripts/setup.sh installs it)"; exit 1; }
 rm -f "$out/window.png" "$out/report.json"
 sed "s|SCREENSHOT|$out/window.png|" "$src/tests/viewer/window_script.txt" >"$out/script.txt"
-xvfb-run -a -s "-screen 0 1280x720x24" "$penumbra" view "$src/scenes/cornell.json" --size 128x128 \
+# PENUMBRA_VIEW_ENV: variables for the viewer alone (the sanitizer build's), not for Xvfb.
+read -r -a view_env <<<"${PENUMBRA_VIEW_ENV:-}"
+xvfb-run -a -s "-screen 0 1280x720x24" env "${view_env[@]}" "$penumbra" view "$src/scenes/cornell.json" --size 128x128 \
   --script "$out/script.txt" --report "$out/report.json" "$@" >"$out/log.txt" 2>&1
 status=$?
 tail -5 "$out/log.txt"
