@@ -1,5 +1,7 @@
 #include "tests/test_paths.h"
 
+#include "engine/scene_loader.h"
+
 #include <filesystem>
 
 namespace penumbra::test {
@@ -11,6 +13,12 @@ std::string sourcePath(const std::string& relative) {
 std::string outputPath(const std::string& name) {
   std::filesystem::create_directories(PENUMBRA_TEST_OUTPUT_DIR);
   return std::string(PENUMBRA_TEST_OUTPUT_DIR) + "/" + name;
+}
+
+std::unique_ptr<PreparedScene> shippedScene(const std::string& name, int size) {
+  Scene scene = loadScene(sourcePath("scenes/" + name + ".json"));
+  scene.settings.width = scene.settings.height = size;
+  return prepareScene(std::move(scene));
 }
 
 }  // namespace penumbra::test

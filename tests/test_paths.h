@@ -1,11 +1,18 @@
-// Where tests find shipped files and where they write their outputs.
+// Where tests find shipped files and where they write their outputs, and the shipped
+// scenes at a test size.
 #pragma once
 
+#include "engine/integrator.h"
+
+#include <memory>
 #include <string>
 
 namespace penumbra::test {
 
 std::string sourcePath(const std::string& relative);  // path under the repository root
 std::string outputPath(const std::string& name);      // path under the build's test output dir
+
+// scenes/<name>.json at size x size pixels, ready to trace.
+std::unique_ptr<PreparedScene> shippedScene(const std::string& name, int size);
 
 }  // namespace penumbra::test

@@ -16,9 +16,7 @@ namespace penumbra {
 namespace {
 
 std::unique_ptr<PreparedScene> loadScaled(const std::string& name, int size) {
-  Scene scene = loadScene(test::sourcePath("scenes/" + name + ".json"));
-  scene.settings.width = scene.settings.height = size;
-  return prepareScene(std::move(scene));
+  return test::shippedScene(name, size);
 }
 
 std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {

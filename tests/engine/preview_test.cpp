@@ -12,11 +12,7 @@
 namespace penumbra {
 namespace {
 
-std::unique_ptr<PreparedScene> cornell(int size) {
-  Scene scene = loadScene(test::sourcePath("scenes/cornell.json"));
-  scene.settings.width = scene.settings.height = size;
-  return prepareScene(std::move(scene));
-}
+std::unique_ptr<PreparedScene> cornell(int size) { return test::shippedScene("cornell", size); }
 
 TEST(Preview, OneRoundOfFlatBlocks) {
   auto prepared = cornell(20);

@@ -14,11 +14,7 @@
 namespace penumbra {
 namespace {
 
-std::shared_ptr<PreparedScene> cornell(int size) {
-  Scene scene = loadScene(test::sourcePath("scenes/cornell.json"));
-  scene.settings.width = scene.settings.height = size;
-  return prepareScene(std::move(scene));
-}
+std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("cornell", size); }
 
 RenderSession::MethodFactory bpFactory(std::shared_ptr<PreparedScene> scene, int spp,
                                        bool openEnded = false) {

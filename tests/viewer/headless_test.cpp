@@ -30,11 +30,7 @@ constexpr int kSize = 64;
 constexpr int kRounds = 3;
 
 std::shared_ptr<const PreparedScene> tire() {
-  static std::shared_ptr<const PreparedScene> scene = [] {
-    Scene s = loadScene(test::sourcePath("scenes/tire.json"));
-    s.settings.width = s.settings.height = kSize;
-    return std::shared_ptr<const PreparedScene>(prepareScene(std::move(s)));
-  }();
+  static std::shared_ptr<const PreparedScene> scene = test::shippedScene("tire", kSize);
   return scene;
 }
 

@@ -6,6 +6,8 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <initializer_list>
+#include <utility>
 
 namespace penumbra {
 
@@ -30,6 +32,18 @@ void uploadRgb(unsigned texture, const Image& image) {
 }
 
 int uniform(unsigned program, const char* name) { return glGetUniformLocation(program, name); }
+
+// Uses `program` with each texture on the next unit and its sampler uniform set to it.
+void useProgram(unsigned program,
+                std::initializer_list<std::pair<const char*, unsigned>> textures) {
+  glUseProgram(program);
+  int unit = 0;
+  for (const auto& [sampler, texture] : textures) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glUniform1i(uniform(program, sampler), unit++);
+  }
+}
 
 }  // namespace
 
@@ -98,13 +112,7 @@ void DisplayRenderer::composite(const DisplayView& view) {
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, picture_, 0);
   glViewport(0, 0, width_, height_);
   const unsigned p = compositeProgram_;
-  glUseProgram(p);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, image_);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, overlay_);
-  glUniform1i(uniform(p, "image"), 0);
-  glUniform1i(uniform(p, "overlay"), 1);
+  useProgram(p, {{"image", image_}, {"overlay", overlay_}});
   glUniform1f(uniform(p, "exposure"), view.display.exposure);
   glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
   glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
@@ -153,13 +161,7 @@ void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
   glViewport(0, 0, width, height);
 
   const unsigned p = viewProgram_;
-  glUseProgram(p);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, picture_);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, slices_);
-  glUniform1i(uniform(p, "picture"), 0);
-  glUniform1i(uniform(p, "slices"), 1);
+  useProgram(p, {{"picture", picture_}, {"slices", slices_}});
   glUniform2f(uniform(p, "imageSize"), float(width_), float(height_));
   glUniform2f(uniform(p, "viewportSize"), float(width), float(height));
   glUniform2f(uniform(p, "viewCenter"), view.centerX, view.centerY);
@@ -172,10 +174,7 @@ void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
 
   if (view.legendHeight > 0 && legendHeight_ > 0) {
     const unsigned q = quadProgram_;
-    glUseProgram(q);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, legend_);
-    glUniform1i(uniform(q, "picture"), 0);
+    useProgram(q, {{"picture", legend_}});
     glUniform2f(uniform(q, "viewportSize"), float(width), float(height));
     // Drawn at its own size (scaled down to fit), along the bottom edge.
     const float scale = std::min(1.0f, float(width) / float(std::max(1, legendWidth_)));
