@@ -191,7 +191,8 @@ void ViewerApp::refreshOverlay() {
   overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get(),
                                options_.bp.filter.alphas);
   if (overlayImage_.available())
-    legendStrip_ = drawMapWithLegend({}, std::max(1, width_), 0, overlayImage_.legend);
+    legendStrip_ =
+        drawMapWithLegend({}, std::max(1, width_ - panelReserve()), 0, overlayImage_.legend);
 }
 
 int ViewerApp::legendBand(int width) {
@@ -232,6 +233,7 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   view.inspectedX = inspectX_;
   view.inspectedY = inspectY_;
   view.legendHeight = legendStrip_.height;
+  view.legendLeft = panelReserve();
   glClearColor(0.12f, 0.12f, 0.13f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
   renderer_->draw(width, height, view);
@@ -296,13 +298,18 @@ void ViewerApp::fitView() {
   const int w = options_.scene->scene.settings.width, h = options_.scene->scene.settings.height;
   // The image fits above the legend band and right of the panel, when there is room.
   const int band = legendStrip_.height;
-  const int panel = imgui_ && showPanel_ && width_ >= w + kPanelWidth ? kPanelWidth : 0;
+  const int panel = panelReserve();
   const float room = float(std::max(1, height_ - band));
   const float fit = std::min(float(std::max(1, width_ - panel)) / float(w), room / float(h));
   zoom_ = fit >= 1.0f ? std::floor(fit) : fit;  // whole zoom steps keep pixels square and crisp
   centerX_ = 0.5f * float(w) - 0.5f * float(panel) / zoom_;
   centerY_ = 0.5f * float(h) + 0.5f * float(band) / zoom_;
   fitted_ = true;
+}
+
+int ViewerApp::panelReserve() const {
+  const int w = options_.scene->scene.settings.width;
+  return imgui_ && showPanel_ && width_ >= w + kPanelWidth ? kPanelWidth : 0;
 }
 
 void ViewerApp::setView(float zoom, float x, float y) {

@@ -119,6 +119,7 @@ class ViewerApp {
   void refreshOverlay();
   void toScreen(double x, double y, float& imageX, float& imageY) const;
   void zoomAt(float factor, double x, double y);
+  int panelReserve() const;  // width the panel takes on the left, 0 without it
 
   ViewOptions options_;
   std::unique_ptr<RenderSession> session_;

@@ -69,6 +69,21 @@ bool methodParameters(ViewOptions& o) {
       std::snprintf(label, sizeof label, "phi %zu", i + 1);
       changed |= ImGui::SliderFloat(label, &bp.filter.phi[i], 0.0f, 2.0f, "%.2f");
     }
+    for (size_t i = 0; i < bp.filter.alphas.size(); ++i) {
+      char label[16];
+      std::snprintf(label, sizeof label, "alpha %zu", i + 1);
+      changed |= ImGui::SliderFloat(label, &bp.filter.alphas[i], 0.01f, 20.0f, "%.2f",
+                                    ImGuiSliderFlags_Logarithmic);
+    }
+    changed |= ImGui::SliderInt("levels m", &bp.histogramLevels, 1, kMaxHistogramLevels);
+    int rate = bp.network.rate == LearningRateMode::Proportional ? 1 : 0;
+    if (ImGui::Combo("learning rate", &rate, "bold driver\0proportional to er\0")) {
+      bp.network.rate = rate ? LearningRateMode::Proportional : LearningRateMode::BoldDriver;
+      changed = true;
+    }
+    changed |= ImGui::SliderFloat("mu min", &bp.network.muMin, 0.001f, 0.5f, "%.3f");
+    changed |= ImGui::SliderFloat("mu max", &bp.network.muMax, 0.001f, 0.5f, "%.3f");
+    changed |= ImGui::SliderInt("reservoir", &bp.reservoir, 4, 256);
     ImGui::TreePop();
   }
   if (ImGui::TreeNode("Ablations")) {
@@ -105,6 +120,64 @@ void progress(ViewerApp& app, const Snapshot& s) {
               s.times.train, s.times.select, s.times.reconstruct);
   if (s.nonFiniteSamples)
     ImGui::Text("%llu NaN/inf samples dropped", (unsigned long long)s.nonFiniteSamples);
+}
+
+// MSE against kept spp on log-log axes (the paper's Fig. 7), with the decades labelled.
+void msePlot(const std::vector<std::pair<double, double>>& history) {
+  const ImVec2 size(ImGui::GetContentRegionAvail().x, 110.0f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                      IM_COL32(25, 25, 30, 255));
+  double x0 = 1e30, x1 = -1e30, y0 = 1e30, y1 = -1e30;
+  for (const auto& [spp, mse] : history) {
+    if (!(spp > 0) || !(mse > 0)) continue;
+    x0 = std::min(x0, std::log10(spp));
+    x1 = std::max(x1, std::log10(spp));
+    y0 = std::min(y0, std::log10(mse));
+    y1 = std::max(y1, std::log10(mse));
+  }
+  if (x0 > x1) {
+    ImGui::Dummy(size);
+    return;
+  }
+  // Whole decades around the data, at least one wide.
+  x0 = std::floor(x0);
+  x1 = std::max(std::ceil(x1), x0 + 1);
+  y0 = std::floor(y0);
+  y1 = std::max(std::ceil(y1), y0 + 1);
+  const float left = 44, bottom = 16;
+  auto at = [&](double lx, double ly) {
+    return ImVec2(origin.x + left + float((lx - x0) / (x1 - x0)) * (size.x - left - 6),
+                  origin.y + 4 + float((y1 - ly) / (y1 - y0)) * (size.y - bottom - 8));
+  };
+  char label[32];
+  for (double d = y0; d <= y1 + 1e-9; d += 1) {
+    const ImVec2 p = at(x0, d);
+    draw->AddLine(p, at(x1, d), IM_COL32(70, 70, 80, 255));
+    std::snprintf(label, sizeof label, "1e%d", int(d));
+    draw->AddText(ImVec2(origin.x + 2, p.y - 7), IM_COL32(180, 180, 180, 255), label);
+  }
+  for (double d = x0; d <= x1 + 1e-9; d += 1) {
+    const ImVec2 p = at(d, y0);
+    draw->AddLine(at(d, y1), p, IM_COL32(70, 70, 80, 255));
+    std::snprintf(label, sizeof label, "%g", std::pow(10.0, d));
+    const float textWidth = ImGui::CalcTextSize(label).x;
+    const float x = std::min(p.x - 0.5f * textWidth, origin.x + size.x - textWidth - 2);
+    draw->AddText(ImVec2(x, origin.y + size.y - bottom + 1), IM_COL32(180, 180, 180, 255), label);
+  }
+  ImVec2 previous{};
+  bool have = false;
+  for (const auto& [spp, mse] : history) {
+    if (!(spp > 0) || !(mse > 0)) continue;
+    const ImVec2 p = at(std::log10(spp), std::log10(mse));
+    if (have) draw->AddLine(previous, p, IM_COL32(250, 200, 60, 255), 1.5f);
+    draw->AddCircleFilled(p, 2.0f, IM_COL32(250, 200, 60, 255));
+    previous = p;
+    have = true;
+  }
+  ImGui::Dummy(size);
+  ImGui::TextDisabled("MSE against kept spp, log-log");
 }
 
 }  // namespace
@@ -180,14 +253,8 @@ void drawPanel(ViewerApp& app) {
     ImGui::TextUnformatted(o.referencePath.c_str());
     const auto& h = app.mseHistory_;
     if (!h.empty()) {
-      std::vector<float> logMse;
-      for (const auto& [spp, mse] : h) logMse.push_back(float(std::log10(std::max(mse, 1e-30))));
-      char overlay[96];
-      std::snprintf(overlay, sizeof overlay, "MSE %.3e at %.1f spp", h.back().second,
-                    h.back().first);
-      ImGui::PlotLines("log10 MSE", logMse.data(), int(logMse.size()), 0, overlay, FLT_MAX, FLT_MAX,
-                       ImVec2(0, 80));
-      ImGui::Text("x: rounds from %.1f to %.1f spp", h.front().first, h.back().first);
+      ImGui::Text("MSE %.3e at %.1f spp", h.back().second, h.back().first);
+      msePlot(h);
     }
   }
   if (ImGui::CollapsingHeader("Save")) {

@@ -176,10 +176,11 @@ void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
     const unsigned q = quadProgram_;
     useProgram(q, {{"picture", legend_}});
     glUniform2f(uniform(q, "viewportSize"), float(width), float(height));
-    // Drawn at its own size (scaled down to fit), along the bottom edge.
-    const float scale = std::min(1.0f, float(width) / float(std::max(1, legendWidth_)));
+    // Drawn at its own size (scaled down to fit), along the bottom edge right of legendLeft.
+    const float room = float(std::max(1, width - view.legendLeft));
+    const float scale = std::min(1.0f, room / float(std::max(1, legendWidth_)));
     const float w = legendWidth_ * scale, h = legendHeight_ * scale;
-    glUniform4f(uniform(q, "rect"), 0.0f, float(height) - h, w, h);
+    glUniform4f(uniform(q, "rect"), float(view.legendLeft), float(height) - h, w, h);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
   }
   glBindVertexArray(0);

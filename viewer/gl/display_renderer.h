@@ -23,6 +23,7 @@ struct DisplayView {
   int slicesPerSide = 0;
   int inspectedX = -1, inspectedY = -1;
   int legendHeight = 0;  // bottom band left for the legend strip
+  int legendLeft = 0;    // where the strip starts (right of the panel)
 };
 
 class DisplayRenderer {
