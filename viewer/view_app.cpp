@@ -154,9 +154,7 @@ bool ViewerApp::update() {
       firstPictureTimes_.push_back(firstPreviewSeconds_);
     }
     if (snapshot_ && options_.reference && snapshot_->method != "preview") {
-      const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
-                               ? snapshot_->raw
-                               : snapshot_->reconstructed;
+      const Image& shown = shownImage();
       if (shown.width == options_.reference->width && shown.height == options_.reference->height) {
         const double spp = double(snapshot_->keptSamples) /
                            std::max(1.0, double(snapshot_->width) * snapshot_->height);
@@ -185,9 +183,7 @@ void ViewerApp::refreshOverlay() {
   overlayImage_.overlay = options_.overlay;
   legendStrip_ = Image();
   if (!snapshot_ || options_.overlay == Overlay::None) return;
-  const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
-                           ? snapshot_->raw
-                           : snapshot_->reconstructed;
+  const Image& shown = shownImage();
   overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get(),
                                options_.bp.filter.alphas);
   if (overlayImage_.available())
@@ -211,9 +207,7 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   if (overlayStale_) update();
   if (!fitted_ && snapshot_) fitView();
   if (texturesStale_ && snapshot_) {
-    const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
-                             ? snapshot_->raw
-                             : snapshot_->reconstructed;
+    const Image& shown = shownImage();
     renderer_->setImage(shown);
     if (overlayImage_.available()) renderer_->setOverlay(overlayImage_.colors);
     renderer_->setLegend(legendStrip_);
@@ -273,9 +267,7 @@ void ViewerApp::writeScreenshot(const std::string& path, int width, int height) 
 
 std::string ViewerApp::saveImage(const std::string& path) const {
   if (!snapshot_) return "nothing rendered yet";
-  const Image& shown = options_.showRaw || snapshot_->reconstructed.empty()
-                           ? snapshot_->raw
-                           : snapshot_->reconstructed;
+  const Image& shown = shownImage();
   try {
     writeImage(path, shown, options_.display.exposure);
   } catch (const std::exception& e) {
@@ -305,6 +297,11 @@ void ViewerApp::fitView() {
   centerX_ = 0.5f * float(w) - 0.5f * float(panel) / zoom_;
   centerY_ = 0.5f * float(h) + 0.5f * float(band) / zoom_;
   fitted_ = true;
+}
+
+const Image& ViewerApp::shownImage() const {
+  return options_.showRaw || snapshot_->reconstructed.empty() ? snapshot_->raw
+                                                              : snapshot_->reconstructed;
 }
 
 int ViewerApp::panelReserve() const {

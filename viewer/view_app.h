@@ -119,7 +119,8 @@ class ViewerApp {
   void refreshOverlay();
   void toScreen(double x, double y, float& imageX, float& imageY) const;
   void zoomAt(float factor, double x, double y);
-  int panelReserve() const;  // width the panel takes on the left, 0 without it
+  int panelReserve() const;         // width the panel takes on the left, 0 without it
+  const Image& shownImage() const;  // raw or reconstructed; needs a snapshot
 
   ViewOptions options_;
   std::unique_ptr<RenderSession> session_;

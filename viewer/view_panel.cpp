@@ -18,10 +18,6 @@ ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
   return ImGui::ColorConvertFloat4ToU32(ImVec4(srgb.x, srgb.y, srgb.z, alpha));
 }
 
-const Image& shownImage(const Snapshot& s, bool raw) {
-  return raw || s.reconstructed.empty() ? s.raw : s.reconstructed;
-}
-
 // The method's parameters; returns true when one changed (the caller restarts).
 bool methodParameters(ViewOptions& o) {
   bool changed = false;
@@ -242,7 +238,7 @@ void drawPanel(ViewerApp& app) {
     app.toScreen(app.cursorX_, app.cursorY_, ix, iy);
     const int px = int(std::floor(ix)), py = int(std::floor(iy));
     if (snap && px >= 0 && py >= 0 && px < snap->width && py < snap->height) {
-      const vec3 c = shownImage(*snap, o.showRaw).at(px, py);
+      const vec3 c = app.shownImage().at(px, py);
       ImGui::Text("pixel (%d, %d): %.4g %.4g %.4g", px, py, c.x, c.y, c.z);
       const OverlayImage& ov = app.overlayImage_;
       if (ov.available())
