@@ -1,5 +1,7 @@
 #include "engine/bp_method.h"
 
+#include "engine/method_common.h"
+
 #include "engine/rng.h"
 
 #include <tbb/parallel_for.h>
@@ -14,15 +16,7 @@ namespace penumbra {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-bool isFinite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-// Grain of the parallel loops over pixels: large enough to amortise a sampler's set-up.
-constexpr size_t kPixelGrain = 64;
+using namespace method;
 
 // Salts that keep the random streams of different purposes apart.
 constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;
@@ -57,11 +51,6 @@ struct PixelState {
 struct TracedSample {
   CameraSample camera;
   vec3 radiance;
-};
-
-class Counters {
- public:
-  std::atomic<uint64_t> rays{0}, nonFinite{0}, rejected{0};
 };
 
 float halton(uint32_t index, uint32_t base) {
@@ -720,129 +709,6 @@ class BpMethod final : public ProgressiveMethod {
   Clock::time_point start_;
 };
 
-// --- The low-discrepancy method, progressively ---------------------------------------
-
-class LdMethod final : public ProgressiveMethod {
- public:
-  LdMethod(const PreparedScene& prepared, const LdConfig& config)
-      : prepared_(prepared),
-        config_(config),
-        width_(prepared.scene.settings.width),
-        height_(prepared.scene.settings.height),
-        pixelCount_(size_t(width_) * height_),
-        mean_(pixelCount_, glm::dvec3(0.0)),
-        count_(pixelCount_, 0) {
-    if (!config.openEnded && config.spp < 1) throw std::invalid_argument("spp must be at least 1");
-    if (config.roundSpp < 1) throw std::invalid_argument("round spp must be at least 1");
-    start_ = Clock::now();
-  }
-
-  void runRound(const std::atomic<bool>* cancel) override {
-    if (done()) return;
-    const auto start = Clock::now();
-    const uint32_t first = drawn_;
-    uint32_t last = first + uint32_t(config_.roundSpp);
-    const int target = config_.openEnded ? config_.maxSpp : config_.spp;
-    if (target > 0) last = std::min(last, uint32_t(target));
-    // renderImage uses the spp as set size; the open-ended stream uses blocks of 64.
-    const uint32_t setSize = config_.openEnded ? 64u : uint32_t(config_.spp);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                        enableFlushToZero();
-                        PixelSampler sampler(config_.sampler, config_.seed, setSize);
-                        PathCounters counters;
-                        uint64_t nonFinite = 0;
-                        for (size_t p = range.begin(); p < range.end(); ++p) {
-                          const int px = int(p % width_), py = int(p / width_);
-                          for (uint32_t i = first; i < last; ++i) {
-                            sampler.startSample(px, py, i);
-                            const vec3 L = traceRadiance(
-                                prepared_,
-                                sampler.cameraSample(prepared_.usesLens, prepared_.usesTime),
-                                sampler, counters);
-                            if (!isFinite(L)) {
-                              ++nonFinite;
-                              continue;
-                            }
-                            // Welford's running mean, in sample order, as renderImage does.
-                            ++count_[p];
-                            mean_[p] += (glm::dvec3(L) - mean_[p]) / double(count_[p]);
-                          }
-                        }
-                        counters_.rays += counters.rays;
-                        counters_.nonFinite += nonFinite;
-                      });
-    if (cancel && cancel->load()) return;
-    lastAdded_ = last - drawn_;
-    drawn_ = last;
-    ++rounds_;
-    times_.trace += secondsSince(start);
-  }
-
-  bool done() const override {
-    const int target = config_.openEnded ? config_.maxSpp : config_.spp;
-    return target > 0 && drawn_ >= uint32_t(target);
-  }
-  int roundsDone() const override { return rounds_; }
-  size_t memoryBytes() const override {
-    return mean_.capacity() * sizeof(glm::dvec3) + count_.capacity() * sizeof(uint32_t);
-  }
-
-  PixelInspection inspect(int x, int y) const override {
-    PixelInspection in;
-    if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
-    const size_t p = size_t(y) * width_ + x;
-    in.valid = true;
-    in.x = x;
-    in.y = y;
-    in.round = rounds_;
-    in.method = "ld";
-    in.estimate = vec3(mean_[p]);
-    in.kept = count_[p];
-    in.traced = drawn_;
-    in.addedLastRound = lastAdded_;
-    in.reason = "low-discrepancy sampling: every pixel gets the same samples each round";
-    return in;
-  }
-
-  std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
-    auto snap = std::make_shared<Snapshot>();
-    snap->method = "ld";
-    snap->round = rounds_;
-    snap->final = done();
-    snap->width = width_;
-    snap->height = height_;
-    snap->raw = Image(width_, height_);
-    for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = vec3(mean_[p]);
-    snap->reconstructed = snap->raw;
-    snap->keptCount.assign(count_.begin(), count_.end());
-    snap->tracedCount.assign(pixelCount_, drawn_);
-    snap->selected.assign(pixelCount_, 1);
-    for (uint32_t c : count_) snap->keptSamples += c;
-    snap->tracedSamples = uint64_t(drawn_) * pixelCount_;
-    snap->rays = counters_.rays;
-    snap->nonFiniteSamples = counters_.nonFinite;
-    snap->times = times_;
-    snap->seconds = secondsSince(start_);
-    return snap;
-  }
-
- private:
-  const PreparedScene& prepared_;
-  LdConfig config_;
-  int width_, height_;
-  size_t pixelCount_;
-  std::vector<glm::dvec3> mean_;
-  std::vector<uint32_t> count_;
-  uint32_t drawn_ = 0;
-  uint32_t lastAdded_ = 0;
-  int rounds_ = 0;
-  Counters counters_;
-  PhaseTimes times_;
-  Clock::time_point start_;
-};
-
 }  // namespace
 
 int BpConfig::effectiveCoarseSpp() const {
@@ -904,11 +770,6 @@ const char* toString(BpPreset preset) { return preset == BpPreset::Tuned ? "tune
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
                                                 const BpConfig& config) {
   return std::make_unique<BpMethod>(prepared, config);
-}
-
-std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
-                                                const LdConfig& config) {
-  return std::make_unique<LdMethod>(prepared, config);
 }
 
 namespace bp {

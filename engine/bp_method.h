@@ -19,6 +19,7 @@
 #include "engine/bp_network.h"
 #include "engine/bp_slices.h"
 #include "engine/integrator.h"
+#include "engine/ld_method.h"
 #include "engine/progressive.h"
 #include "engine/reconstruct.h"
 #include "engine/sampler.h"
@@ -77,20 +78,6 @@ const char* toString(BpPreset preset);
 // std::invalid_argument with validate()'s message on a bad configuration.
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
                                                 const BpConfig& config);
-
-// The plain low-discrepancy renderer as a progressive method: the coarse pass, then
-// rounds adding samples to every pixel. Its final image equals renderImage's for the same
-// seed and spp (box filter, per-pixel mean in sample order).
-struct LdConfig {
-  uint64_t seed = 0;
-  int spp = 16;
-  bool openEnded = false;
-  int roundSpp = 1;  // samples per pixel per round after the first
-  int maxSpp = 0;
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
-};
-std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
-                                                const LdConfig& config);
 
 // Building blocks, exposed for tests.
 namespace bp {

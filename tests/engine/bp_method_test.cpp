@@ -368,22 +368,5 @@ TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   EXPECT_FALSE(method->inspect(12, 0).valid);
 }
 
-TEST(LdMethod, FinalImageEqualsRenderImage) {
-  auto prepared = loadScaled("cornell", 16);
-  LdConfig config;
-  config.spp = 8;
-  config.seed = 3;
-  config.roundSpp = 3;  // rounds of 3, 3, 2 samples
-  auto method = makeLdMethod(*prepared, config);
-  const auto snap = runToEnd(*method);
-  EXPECT_EQ(snap->round, 3);
-  RenderOptions options;
-  options.spp = 8;
-  options.seed = 3;
-  const RenderResult direct = renderImage(*prepared, options);
-  EXPECT_EQ(snap->raw.pixels, direct.image.pixels);
-  EXPECT_EQ(snap->rays, direct.rays);
-}
-
 }  // namespace
 }  // namespace penumbra

@@ -1,0 +1,33 @@
+// Small pieces the progressive methods (bp_method.cpp, ld_method.cpp) share: wall-clock
+// timing, the finiteness test for samples, the grain of their pixel loops and their ray
+// counters. Internal to engine/.
+#pragma once
+
+#include "engine/image.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace penumbra::method {
+
+using Clock = std::chrono::steady_clock;
+inline double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+inline bool isFinite(vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Grain of the parallel loops over pixels: large enough to amortise a sampler's set-up.
+constexpr size_t kPixelGrain = 64;
+
+// Counted by the worker threads of a round.
+struct Counters {
+  std::atomic<uint64_t> rays{0}, nonFinite{0}, rejected{0};
+};
+
+}  // namespace penumbra::method
