@@ -81,8 +81,6 @@ class BpMethod final : public ProgressiveMethod {
     sliceSumL_.resize(pixelCount_ * slicesPerPixel_, glm::dvec3(0.0));
     nets_.resize(pixelCount_);
     selected_.assign(pixelCount_, 0);
-    for (size_t p = 0; p < pixelCount_; ++p)
-      initNetwork(nets_[p], config_.network, hashValues(config_.seed, p, kNetSalt));
     budget_ = config_.openEnded ? 0 : uint64_t(config_.spp) * pixelCount_;
     start_ = Clock::now();
   }
@@ -117,7 +115,8 @@ class BpMethod final : public ProgressiveMethod {
     return bytes;
   }
 
-  std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
+                                     const std::atomic<bool>* cancel) override {
     auto snap = std::make_shared<Snapshot>();
     const auto start = Clock::now();
     snap->method = "bp";
@@ -148,7 +147,7 @@ class BpMethod final : public ProgressiveMethod {
     if (!reconstructImage) {
       snap->alphaIndex.clear();
     } else if (config_.reconstruct && rounds_ > 0) {
-      const Reconstruction r = reconstruct(snap->raw, snap->bias, tone_, config_.filter);
+      const Reconstruction r = reconstruct(snap->raw, snap->bias, tone_, config_.filter, cancel);
       snap->reconstructed = r.output;
       snap->alphaIndex = r.alphaIndex;
     } else {
@@ -294,31 +293,34 @@ class BpMethod final : public ProgressiveMethod {
     auto start = Clock::now();
     // Trace first: the tone map that histograms and targets use comes from this pass.
     std::vector<std::vector<TracedSample>> traced(pixelCount_);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                        enableFlushToZero();
-                        PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
-                        PathCounters counters;
-                        uint64_t nonFinite = 0;
-                        for (size_t p = range.begin(); p < range.end(); ++p) {
-                          const int px = int(p % width_), py = int(p / width_);
-                          traced[p].reserve(coarseSpp_);
-                          for (int i = 0; i < coarseSpp_; ++i) {
-                            sampler.startSample(px, py, uint32_t(i));
-                            const CameraSample cs =
-                                sampler.cameraSample(prepared_.usesLens, prepared_.usesTime);
-                            const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
-                            if (isFinite(L))
-                              traced[p].push_back({cs, L});
-                            else
-                              ++nonFinite;
-                          }
-                          pixels_[p].traced = pixels_[p].drawn = uint32_t(coarseSpp_);
-                        }
-                        counters_.rays += counters.rays;
-                        counters_.nonFinite += nonFinite;
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
+        [&](const tbb::blocked_range<size_t>& range) {
+          if (cancel && cancel->load(std::memory_order_relaxed)) return;
+          enableFlushToZero();
+          PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
+          PathCounters counters;
+          uint64_t nonFinite = 0;
+          for (size_t p = range.begin(); p < range.end(); ++p) {
+            // Here rather than in the constructor: in parallel, and a
+            // restart can cancel it.
+            initNetwork(nets_[p], config_.network, hashValues(config_.seed, p, kNetSalt));
+            const int px = int(p % width_), py = int(p / width_);
+            traced[p].reserve(coarseSpp_);
+            for (int i = 0; i < coarseSpp_; ++i) {
+              sampler.startSample(px, py, uint32_t(i));
+              const CameraSample cs = sampler.cameraSample(prepared_.usesLens, prepared_.usesTime);
+              const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
+              if (isFinite(L))
+                traced[p].push_back({cs, L});
+              else
+                ++nonFinite;
+            }
+            pixels_[p].traced = pixels_[p].drawn = uint32_t(coarseSpp_);
+          }
+          counters_.rays += counters.rays;
+          counters_.nonFinite += nonFinite;
+        });
     if (cancel && cancel->load()) return;
     Image coarse(width_, height_);
     for (size_t p = 0; p < pixelCount_; ++p) {
@@ -329,6 +331,7 @@ class BpMethod final : public ProgressiveMethod {
     tone_ = toneMapFor(coarse);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
                       [&](const tbb::blocked_range<size_t>& range) {
+                        if (cancel && cancel->load(std::memory_order_relaxed)) return;
                         for (size_t p = range.begin(); p < range.end(); ++p) {
                           const int px = int(p % width_), py = int(p / width_);
                           for (const TracedSample& s : traced[p])
@@ -597,6 +600,7 @@ class BpMethod final : public ProgressiveMethod {
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
         [&](const tbb::blocked_range<size_t>& range) {
+          if (cancel && cancel->load(std::memory_order_relaxed)) return;
           for (size_t i = range.begin(); i < range.end(); ++i) {
             const uint32_t p = pixels[i];
             const PixelState& state = pixels_[p];
@@ -626,6 +630,7 @@ class BpMethod final : public ProgressiveMethod {
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pixels.size(), kPixelGrain),
         [&](const tbb::blocked_range<size_t>& range) {
+          if (cancel && cancel->load(std::memory_order_relaxed)) return;
           std::vector<float> uvt(size_t(K) * 3);
           float x[kMaxNetInputs];
           for (size_t i = range.begin(); i < range.end(); ++i) {

@@ -97,7 +97,7 @@ class LdMethod final : public ProgressiveMethod {
     return in;
   }
 
-  std::shared_ptr<Snapshot> snapshot(bool reconstructImage) override {
+  std::shared_ptr<Snapshot> snapshot(bool, const std::atomic<bool>*) override {
     auto snap = std::make_shared<Snapshot>();
     snap->method = "ld";
     snap->round = rounds_;

@@ -107,7 +107,10 @@ class ProgressiveMethod {
   // The state after the last completed round. The reconstruction is computed on demand
   // (its time counts in PhaseTimes::reconstruct); with reconstructImage false the
   // snapshot's reconstructed image is left empty, for cheap per-round statistics.
-  virtual std::shared_ptr<Snapshot> snapshot(bool reconstructImage = true) = 0;
+  // `cancel`, when set while it works, cuts the reconstruction short: the caller then
+  // discards the snapshot.
+  virtual std::shared_ptr<Snapshot> snapshot(bool reconstructImage = true,
+                                             const std::atomic<bool>* cancel = nullptr) = 0;
   // Bytes held for per-pixel state (samples, networks, accumulators).
   virtual size_t memoryBytes() const = 0;
   // The pixel whose candidates the next rounds record for inspect(); -1, -1 for none.

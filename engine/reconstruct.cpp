@@ -112,7 +112,7 @@ int alphaIndexForBias(float bias, std::span<const float> phi) {
 }
 
 Image bilateralPass(const Image& image, std::span<const float> alphaOf, const ToneMap& tone,
-                    int radius, float sigmaC) {
+                    int radius, float sigmaC, const std::atomic<bool>* cancel) {
   requireConsistent(image);
   if (alphaOf.size() != image.pixels.size())
     throw std::invalid_argument("bilateralPass: " + std::to_string(alphaOf.size()) +
@@ -160,6 +160,7 @@ Image bilateralPass(const Image& image, std::span<const float> alphaOf, const To
   // so the result does not depend on how rows are split between threads.
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) return;
       const int y0 = std::max(0, y - radius), y1 = std::min(height - 1, y + radius);
       for (int x = 0; x < width; ++x) {
         const size_t p = size_t(y) * width + x;
@@ -202,7 +203,7 @@ Image bilateralPass(const Image& image, std::span<const float> alphaOf, const To
 }
 
 Reconstruction reconstruct(const Image& estimate, std::span<const float> bias, const ToneMap& tone,
-                           const FilterConfig& config) {
+                           const FilterConfig& config, const std::atomic<bool>* cancel) {
   requireConsistent(estimate);
   if (bias.size() != estimate.pixels.size())
     throw std::invalid_argument("reconstruct: bias has " + std::to_string(bias.size()) +
@@ -218,7 +219,7 @@ Reconstruction reconstruct(const Image& estimate, std::span<const float> bias, c
     result.alphaIndex[i] = uint8_t(index);
     alphaOf[i] = config.alphas[size_t(index)];
   }
-  result.firstPass = bilateralPass(estimate, alphaOf, tone, config.radius, config.sigmaC);
+  result.firstPass = bilateralPass(estimate, alphaOf, tone, config.radius, config.sigmaC, cancel);
 
   if (!config.secondPass) {
     result.output = result.firstPass;
@@ -227,7 +228,8 @@ Reconstruction reconstruct(const Image& estimate, std::span<const float> bias, c
   // Softens the seams where the first pass switches abruptly between alphas (§9.4); the
   // range term now sees the first pass's colours.
   std::fill(alphaOf.begin(), alphaOf.end(), config.alphas[size_t(config.secondPassAlpha)]);
-  result.output = bilateralPass(result.firstPass, alphaOf, tone, config.radius, config.sigmaC);
+  result.output =
+      bilateralPass(result.firstPass, alphaOf, tone, config.radius, config.sigmaC, cancel);
   return result;
 }
 

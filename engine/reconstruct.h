@@ -9,6 +9,7 @@
 
 #include "engine/image.h"
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -39,8 +40,9 @@ int alphaIndexForBias(float bias, std::span<const float> phi);
 
 // One pass of eq. 18 with falloff alphaOf[p] at pixel p (window clipped at the borders and
 // renormalised; range term from T of `image` itself).
+// `cancel`, when given and set, stops it between rows (the result is then incomplete).
 Image bilateralPass(const Image& image, std::span<const float> alphaOf, const ToneMap& tone,
-                    int radius, float sigmaC);
+                    int radius, float sigmaC, const std::atomic<bool>* cancel = nullptr);
 
 struct Reconstruction {
   Image firstPass;
@@ -50,6 +52,6 @@ struct Reconstruction {
 // Throws std::invalid_argument when bias.size() differs from the pixel count, or the
 // configuration is inconsistent (phi.size() != alphas.size() - 1, radius < 0, ...).
 Reconstruction reconstruct(const Image& estimate, std::span<const float> bias, const ToneMap& tone,
-                           const FilterConfig& config);
+                           const FilterConfig& config, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace penumbra

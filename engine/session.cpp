@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <utility>
+#include <vector>
 
 namespace penumbra {
 
@@ -42,7 +44,8 @@ RenderSession::~RenderSession() {
   thread_.join();
 }
 
-void RenderSession::start(MethodFactory factory, int rounds) {
+uint64_t RenderSession::start(MethodFactory factory, int rounds) {
+  uint64_t generation = 0;
   {
     std::lock_guard lock(mutex_);
     factory_ = std::move(factory);
@@ -51,12 +54,14 @@ void RenderSession::start(MethodFactory factory, int rounds) {
     stepsLeft_ = rounds < 0 ? -1 : rounds;
     error_.clear();
     cancelRound_ = true;  // the round of the previous method, if any, stops early
+    generation = generation_;
   }
   wake_.notify_all();
+  return generation;
 }
 
-void RenderSession::restart(MethodFactory factory, int rounds) {
-  start(std::move(factory), rounds);
+uint64_t RenderSession::restart(MethodFactory factory, int rounds) {
+  return start(std::move(factory), rounds);
 }
 
 void RenderSession::pause() {
@@ -122,8 +127,9 @@ std::shared_ptr<const PixelInspection> RenderSession::inspection() const {
   return inspection_;
 }
 
-std::shared_ptr<const Snapshot> RenderSession::latest() const {
+std::shared_ptr<const Snapshot> RenderSession::latest(uint64_t* generation) const {
   std::lock_guard lock(mutex_);
+  if (generation) *generation = latestGeneration_;
   return latest_;
 }
 
@@ -149,6 +155,15 @@ void RenderSession::worker() {
   uint64_t methodGeneration = 0;
   auto drop = [&] {
     method.reset();
+    activeFactory = nullptr;
+  };
+  // A replaced method is freed only after its successor has published its first snapshot:
+  // freeing a large method's per-pixel state takes tens of milliseconds, which would
+  // otherwise delay the first picture after a restart.
+  // (Each keeps the factory that owns what it refers to.)
+  std::vector<std::pair<std::unique_ptr<ProgressiveMethod>, MethodFactory>> retired;
+  auto retire = [&] {
+    if (method) retired.emplace_back(std::move(method), std::move(activeFactory));
     activeFactory = nullptr;
   };
   // Takes the inspection of the asked-for pixel from the idle method (lock held on entry and
@@ -196,7 +211,7 @@ void RenderSession::worker() {
     std::string failure;
     try {
       if (!method || methodGeneration != generation) {
-        drop();
+        retire();
         activeFactory = std::move(factory);
         method = activeFactory();
         methodGeneration = generation;
@@ -204,7 +219,8 @@ void RenderSession::worker() {
       method->setInspectedPixel(inspectX, inspectY);
       arena.execute([&] {
         method->runRound(&cancelRound_);
-        if (!cancelRound_) snapshot = method->snapshot();
+        if (!cancelRound_) snapshot = method->snapshot(true, &cancelRound_);
+        if (cancelRound_) snapshot.reset();  // cut short: it belongs to the old method
       });
       if (snapshot && inspectX >= 0)
         inspection = std::make_shared<PixelInspection>(method->inspect(inspectX, inspectY));
@@ -215,9 +231,10 @@ void RenderSession::worker() {
 
     lock.lock();
     if (generation != generation_) {
-      // Restarted or cancelled meanwhile: this round's result belongs to the old method.
+      // Restarted or cancelled meanwhile: this round's result belongs to the old method,
+      // which goes once the next one has shown something.
       lock.unlock();
-      drop();
+      retire();
       lock.lock();
       continue;
     }
@@ -230,8 +247,10 @@ void RenderSession::worker() {
       idle_.notify_all();
       continue;
     }
+    const bool published = snapshot != nullptr;
     if (snapshot) {
       latest_ = std::move(snapshot);
+      latestGeneration_ = generation;
       ++version_;
     }
     if (inspection && inspectX == inspectX_ && inspectY == inspectY_) {
@@ -244,6 +263,11 @@ void RenderSession::worker() {
       idle_.notify_all();
     } else if (stepsLeft_ > 0) {
       --stepsLeft_;
+    }
+    if (published && !retired.empty()) {
+      lock.unlock();
+      retired.clear();
+      lock.lock();
     }
   }
 }

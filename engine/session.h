@@ -38,8 +38,9 @@ class RenderSession {
 
   // From scratch, running; with rounds >= 0 it pauses after that many rounds (a headless
   // screenshot after exactly N rounds).
-  void start(MethodFactory factory, int rounds = -1);
-  void restart(MethodFactory factory, int rounds = -1);  // same as start: cancels what runs now
+  // Returns the generation of this start: latest() tells which generation a snapshot is of.
+  uint64_t start(MethodFactory factory, int rounds = -1);
+  uint64_t restart(MethodFactory factory, int rounds = -1);  // as start: cancels what runs
   void pause();
   void resume();
   void step();  // runs one round, then pauses
@@ -49,7 +50,9 @@ class RenderSession {
   std::string error() const;  // the exception message when the state is Failed
   // The latest published snapshot (null before the first round completes) and a counter
   // that increases with every publication.
-  std::shared_ptr<const Snapshot> latest() const;
+  // With `generation`, also the start the snapshot belongs to (a snapshot of the method
+  // before a restart may be the latest for a moment after it).
+  std::shared_ptr<const Snapshot> latest(uint64_t* generation = nullptr) const;
   uint64_t version() const { return version_.load(); }
   // Asks for the inspection of pixel (x, y) (-1, -1: none). It is taken after every round,
   // and at once when no round runs; the method also records that pixel's candidates.
@@ -77,6 +80,7 @@ class RenderSession {
   std::string error_;
   std::atomic<bool> cancelRound_{false};
   std::shared_ptr<const Snapshot> latest_;
+  uint64_t latestGeneration_ = 0;
   std::atomic<uint64_t> version_{0};
   int inspectX_ = -1, inspectY_ = -1;
   bool inspectPending_ = false;  // a new pixel was asked for

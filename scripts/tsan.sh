@@ -12,7 +12,7 @@ scripts/setup.sh --no-build
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 if [ ! -f build-tsan/CMakeCache.txt ]; then
-  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
     -DPENUMBRA_SANITIZE=thread -DPENUMBRA_BENCH=OFF >"$log" 2>&1 || { cat "$log"; exit 1; }
 fi
 cmake --build build-tsan -j "$(nproc 2>/dev/null || echo 2)" --target penumbra >"$log" 2>&1 || { cat "$log"; exit 1; }

@@ -35,25 +35,20 @@ constexpr int kPanelWidth = 356;
 // The method a (re)start runs on `view`, built on the session's worker thread from a copy
 // of the options taken at the restart (the UI thread goes on changing its own).
 std::unique_ptr<ProgressiveMethod> makeViewMethod(const PreparedScene& view, const ViewOptions& o) {
-  auto real = [&view, o]() -> std::unique_ptr<ProgressiveMethod> {
-    if (o.method == "ld") {
-      LdConfig c;
-      c.seed = o.seed;
-      c.openEnded = true;
-      c.roundSpp = o.roundSpp;
-      c.maxSpp = o.targetSpp;
-      return makeLdMethod(view, c);
-    }
-    BpConfig c = o.bp;
+  if (o.method == "ld") {
+    LdConfig c;
     c.seed = o.seed;
     c.openEnded = true;
     c.roundSpp = o.roundSpp;
     c.maxSpp = o.targetSpp;
-    return makeBpMethod(view, c);
-  };
-  if (!o.preview) return real();
-  return chainMethods(makePreviewMethod(view, o.seed, previewBlock(view.scene.settings.width)),
-                      real);
+    return makeLdMethod(view, c);
+  }
+  BpConfig c = o.bp;
+  c.seed = o.seed;
+  c.openEnded = true;
+  c.roundSpp = o.roundSpp;
+  c.maxSpp = o.targetSpp;
+  return makeBpMethod(view, c);
 }
 
 }  // namespace
@@ -129,12 +124,27 @@ void ViewerApp::restart() {
   }
   // The factory owns the view, which the method refers to, for as long as the method runs,
   // and a copy of the options: it runs on the worker thread.
-  session_->restart([view, o = options_] { return makeViewMethod(*view, o); }, options_.rounds);
+  restartTime_ = Clock::now();
+  generation_ =
+      session_->restart([view, o = options_] { return makeViewMethod(*view, o); }, options_.rounds);
   if (inspectX_ >= 0) session_->inspect(inspectX_, inspectY_);
   ++restarts_;
-  restartTime_ = Clock::now();
   firstPreviewSeconds_ = -1;
   mseHistory_.clear();
+  if (options_.preview) {
+    // Drawn here, on the UI thread, so the new view shows within a frame whatever the
+    // render threads are doing; the method's first round replaces it.
+    auto preview = std::make_shared<Snapshot>();
+    preview->method = "preview";
+    preview->width = view->scene.settings.width;
+    preview->height = view->scene.settings.height;
+    preview->raw = renderPreview(*view, options_.seed, previewBlock(preview->width));
+    preview->reconstructed = preview->raw;
+    snapshot_ = std::move(preview);
+    overlayStale_ = texturesStale_ = true;
+    firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
+    firstPictureTimes_.push_back(firstPreviewSeconds_);
+  }
 }
 
 void ViewerApp::setCamera(const Camera& camera) {
@@ -145,11 +155,15 @@ void ViewerApp::setCamera(const Camera& camera) {
 bool ViewerApp::update() {
   bool changed = false;
   const uint64_t version = session_->version();
-  if (version != seenVersion_) {
+  uint64_t generation = 0;
+  std::shared_ptr<const Snapshot> latest;
+  if (version != seenVersion_) latest = session_->latest(&generation);
+  // A snapshot of the method before the last restart is an old view: not shown.
+  if (version != seenVersion_ && generation == generation_) {
     seenVersion_ = version;
-    snapshot_ = session_->latest();
-    // The first round after a (re)start: the preview, or the method's first round.
-    if (snapshot_ && snapshot_->round == 1 && firstPreviewSeconds_ < 0) {
+    snapshot_ = std::move(latest);
+    // The first round after a restart, when there was no preview.
+    if (snapshot_ && firstPreviewSeconds_ < 0) {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
       firstPictureTimes_.push_back(firstPreviewSeconds_);
     }

@@ -131,6 +131,7 @@ class ViewerApp {
   std::shared_ptr<const Snapshot> snapshot_;
   std::shared_ptr<const PixelInspection> inspection_;
   uint64_t seenVersion_ = 0, seenInspection_ = 0;
+  uint64_t generation_ = 0;  // the session's generation of the last restart
   OverlayImage overlayImage_;
   Image legendStrip_;
   bool overlayStale_ = true;                           // overlay and legend to rebuild on the CPU
