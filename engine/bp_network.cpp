@@ -267,20 +267,15 @@ uint64_t trainNetworks(const NetworkConfig& config, std::span<PixelNet* const> n
   const int pixelCount = std::min(int(nets.size()), batch.pixelCount());
   auto samplesOf = [&](uint32_t p) { return batch.offsets[p + 1] - batch.offsets[p]; };
 
-  // Sorting by sample count keeps the padding of each group small. Within a count, sorting
-  // by the er of the previous training puts pixels that will stop early (er below e) in the
-  // same groups, so fewer lanes idle while their group trains on. The index breaks ties, so
-  // the grouping is a function of the batch and the networks alone; a lane's result does
-  // not depend on its group anyway.
+  // Sorting by sample count keeps the padding of each group small; the index breaks ties so
+  // that the grouping is a function of the batch alone.
   std::vector<uint32_t> order;
   order.reserve(size_t(pixelCount));
   for (int p = 0; p < pixelCount; ++p)
     if (nets[size_t(p)] && samplesOf(uint32_t(p)) > 0) order.push_back(uint32_t(p));
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     const uint32_t na = samplesOf(a), nb = samplesOf(b);
-    if (na != nb) return na < nb;
-    const float ea = nets[a]->er, eb = nets[b]->er;
-    return ea != eb ? ea < eb : a < b;
+    return na != nb ? na < nb : a < b;
   });
   if (order.empty()) return 0;
 
