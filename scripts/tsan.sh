@@ -9,12 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --no-build
-log=$(mktemp)
-trap 'rm -f "$log"' EXIT
-if [ ! -f build-tsan/CMakeCache.txt ]; then
-  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
-    -DPENUMBRA_SANITIZE=thread -DPENUMBRA_BENCH=OFF >"$log" 2>&1 || { cat "$log"; exit 1; }
-fi
-cmake --build build-tsan -j "$(nproc 2>/dev/null || echo 2)" --target penumbra >"$log" 2>&1 || { cat "$log"; exit 1; }
+source scripts/sanitized_build.sh
+sanitized_build build-tsan thread penumbra
 export TSAN_OPTIONS="halt_on_error=1:exitcode=66:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp"
 bash tests/viewer/window_test.sh "$PWD/build-tsan/penumbra" "$PWD" "$PWD/build-tsan/window" --threads 1
