@@ -228,6 +228,7 @@ struct Window final : ScriptHost {
     app->requestScreenshot(path);
   }
   void quit() override { glfwSetWindowShouldClose(window, GLFW_TRUE); }
+  bool roundShown() override { return app->roundShown(); }
 };
 
 Window* windowOf(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPointer(w)); }

@@ -102,6 +102,10 @@ class ViewerApp {
   // overlay); a headless screenshot adds it to the image height.
   int legendBand(int width);
   int restarts() const { return restarts_; }
+  // A round of the current view (not the preview) is the shown snapshot.
+  bool roundShown() const {
+    return snapshot_ && snapshot_->method != "preview" && snapshot_->round > 0;
+  }
   // Seconds from each (re)start to its first picture.
   const std::vector<double>& firstPictureTimes() const { return firstPictureTimes_; }
   const FrameStats& frameStats() const { return frameStats_; }

@@ -103,6 +103,11 @@ InputScript InputScript::parse(const std::string& text, const std::string& name)
     } else if (c.verb == "resize") {
       numbers(0, 2);
       if (c.numbers[0] < 0 || c.numbers[1] < 0) fail("sizes must be >= 0");
+    } else if (c.verb == "wait-round") {
+      if (args.empty())
+        c.numbers.push_back(60.0);
+      else
+        numbers(0, 1);
     } else if (c.verb == "screenshot") {
       if (args.size() != 1) fail("expected a path");
       c.text = args[0];
@@ -128,6 +133,10 @@ bool InputScript::step(double now, ScriptHost& host) {
     dragFrame_ = -1;
   }
   if (now < busyUntil_) return true;
+  if (roundDeadline_ >= 0) {
+    if (!host.roundShown() && now < roundDeadline_) return true;
+    roundDeadline_ = -1;
+  }
   // A hold in progress ends with its release.
   if (next_ > 0 && commands_[next_ - 1].verb == "hold" && busyUntil_ > 0) {
     host.key(scriptKeyCode(commands_[next_ - 1].text), false, 0);
@@ -167,6 +176,11 @@ bool InputScript::step(double now, ScriptHost& host) {
       host.iconify(c.verb == "iconify");
       busyUntil_ = now + 0.1;
       return true;
+    } else if (c.verb == "wait-round") {
+      if (!host.roundShown()) {
+        roundDeadline_ = now + c.numbers[0];
+        return true;
+      }
     } else if (c.verb == "screenshot") {
       host.screenshot(c.text);
     } else if (c.verb == "quit") {

@@ -9,6 +9,8 @@
 //   scroll DY [X Y] [ctrl]       scroll (ctrl: dolly the camera)
 //   resize W H                   resize the window (0 0 is allowed)
 //   iconify | restore            minimise the window and bring it back
+//   wait-round [SECONDS]         wait until a round of the current view has landed (at most
+//                                SECONDS, default 60): makes a script independent of speed
 //   screenshot PATH              write the next frame to PATH
 //   quit                         close the viewer
 #pragma once
@@ -29,6 +31,7 @@ class ScriptHost {
   virtual void resize(int width, int height) = 0;
   virtual void iconify(bool minimise) = 0;
   virtual void screenshot(const std::string& path) = 0;
+  virtual bool roundShown() = 0;  // a round of the current view is on screen
   virtual void quit() = 0;
 };
 
@@ -53,8 +56,9 @@ class InputScript {
  private:
   std::vector<ScriptCommand> commands_;
   size_t next_ = 0;
-  double busyUntil_ = 0;  // a wait, hold or drag in progress
-  int dragFrame_ = -1;    // frame of the drag in progress, -1: none
+  double busyUntil_ = 0;       // a wait, hold or drag in progress
+  double roundDeadline_ = -1;  // a wait-round in progress: give up at this time
+  int dragFrame_ = -1;         // frame of the drag in progress, -1: none
 };
 
 // GLFW key code of a script key name, or -1.

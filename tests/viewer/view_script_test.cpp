@@ -31,6 +31,8 @@ struct Recorder final : ScriptHost {
   void iconify(bool m) override { events.push_back(m ? "iconify" : "restore"); }
   void screenshot(const std::string& p) override { events.push_back("screenshot " + p); }
   void quit() override { events.push_back("quit"); }
+  bool roundShown() override { return rounds > 0; }
+  int rounds = 0;
 };
 
 TEST(ViewScript, RunsCommandsInOrderAndWaits) {
@@ -51,6 +53,23 @@ TEST(ViewScript, RunsCommandsInOrderAndWaits) {
   EXPECT_EQ(r.events[5], "resize 0x0");
   EXPECT_FALSE(s.step(1.1, r));
   EXPECT_EQ(r.events.back(), "quit");
+}
+
+TEST(ViewScript, WaitRoundWaitsForARoundOrItsTimeout) {
+  InputScript s = InputScript::parse("wait-round 5\nkey 2\nwait-round\nkey 3\n", "t");
+  Recorder r;
+  EXPECT_TRUE(s.step(0.0, r));
+  EXPECT_TRUE(s.step(1.0, r));
+  EXPECT_TRUE(r.events.empty());  // no round yet
+  r.rounds = 1;
+  EXPECT_FALSE(s.step(1.1, r));  // the round came: key 2, the next wait-round passes, key 3
+  EXPECT_EQ(r.events.size(), 4u);
+  InputScript timeout = InputScript::parse("wait-round 2\nquit\n", "t");
+  Recorder none;
+  EXPECT_TRUE(timeout.step(0.0, none));
+  EXPECT_TRUE(timeout.step(1.9, none));
+  EXPECT_FALSE(timeout.step(2.1, none));  // gave up waiting, then quit
+  EXPECT_EQ(none.events.back(), "quit");
 }
 
 TEST(ViewScript, DragsOverTenFrames) {
