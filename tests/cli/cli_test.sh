@@ -96,22 +96,24 @@ expect_fail "aov dir needs bp" "--aov-dir needs --method bp" "$penumbra" render 
 expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
 
 # The viewer, headless (no display): screenshots, the fallback without a display, bad flags.
-expect_ok "view headless" env -u DISPLAY "$penumbra" view "$cornell" --size 24x24 --headless --rounds 2 --overlay bias --screenshot "$work/view.png"
+# PENUMBRA_VIEW_ENV: variables the sanitizer build gives the viewer (tests/CMakeLists.txt).
+read -r -a view_env <<<"${PENUMBRA_VIEW_ENV:-}"
+expect_ok "view headless" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --size 24x24 --headless --rounds 2 --overlay bias --screenshot "$work/view.png"
 [ -s "$work/view.png" ] && passes=$((passes + 1)) || { echo "FAIL: view wrote no screenshot"; failures=$((failures + 1)); }
 grep -q "view.png: 24x" "$work/out.txt" && passes=$((passes + 1)) || { echo "FAIL: view did not print the screenshot path"; failures=$((failures + 1)); }
-expect_ok "view without a display" env -u DISPLAY -u WAYLAND_DISPLAY "$penumbra" view "$cornell" --size 16x16 --rounds 1 --method ld --backend osmesa --screenshot "$work/auto.png"
+expect_ok "view without a display" env -u DISPLAY -u WAYLAND_DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --size 16x16 --rounds 1 --method ld --backend osmesa --screenshot "$work/auto.png"
 grep -q "no display" "$work/out.txt" && [ -s "$work/auto.png" ] && passes=$((passes + 1)) || { echo "FAIL: no headless fallback without a display"; failures=$((failures + 1)); }
 "$penumbra" render "$cornell" --size 16x16 --spp 4 -o "$work/ref16.exr" -q
-expect_ok "view with reference" env -u DISPLAY "$penumbra" view "$cornell" --size 16x16 --headless --rounds 1 --reference "$work/ref16.exr" --overlay reference_error --with-ui --inspect 3,4 --screenshot "$work/ui.png"
-expect_fail "view bad overlay" "--overlay: unknown overlay 'glitter'" env -u DISPLAY "$penumbra" view "$cornell" --headless --overlay glitter --screenshot "$work/x.png"
-expect_fail "view bad backend" "--backend" env -u DISPLAY "$penumbra" view "$cornell" --headless --backend vulkan --screenshot "$work/x.png"
-expect_fail "view screenshot format" "--screenshot: expected a .png" env -u DISPLAY "$penumbra" view "$cornell" --headless --screenshot "$work/x.jpg"
-expect_fail "view bad inspect" "--inspect: expected X,Y" env -u DISPLAY "$penumbra" view "$cornell" --headless --inspect 3 --screenshot "$work/x.png"
-expect_fail "view reference size" "is 16x16, the render 24x24" env -u DISPLAY "$penumbra" view "$cornell" --size 24x24 --headless --reference "$work/ref16.exr" --screenshot "$work/x.png"
-expect_fail "view missing reference" "nothere.exr" env -u DISPLAY "$penumbra" view "$cornell" --headless --reference "$work/nothere.exr" --screenshot "$work/x.png"
-expect_fail "view script needs a display" "--script needs a display" env -u DISPLAY -u WAYLAND_DISPLAY "$penumbra" view "$cornell" --script "$work/none.txt"
-expect_fail "view bad window size" "--window-size" env -u DISPLAY "$penumbra" view "$cornell" --headless --window-size 0x5 --screenshot "$work/x.png"
-expect_fail "view missing scene" "nowhere.json" env -u DISPLAY "$penumbra" view "$work/nowhere.json" --headless --screenshot "$work/x.png"
+expect_ok "view with reference" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --size 16x16 --headless --rounds 1 --reference "$work/ref16.exr" --overlay reference_error --with-ui --inspect 3,4 --screenshot "$work/ui.png"
+expect_fail "view bad overlay" "--overlay: unknown overlay 'glitter'" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --overlay glitter --screenshot "$work/x.png"
+expect_fail "view bad backend" "--backend" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --backend vulkan --screenshot "$work/x.png"
+expect_fail "view screenshot format" "--screenshot: expected a .png" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --screenshot "$work/x.jpg"
+expect_fail "view bad inspect" "--inspect: expected X,Y" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --inspect 3 --screenshot "$work/x.png"
+expect_fail "view reference size" "is 16x16, the render 24x24" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --size 24x24 --headless --reference "$work/ref16.exr" --screenshot "$work/x.png"
+expect_fail "view missing reference" "nothere.exr" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --reference "$work/nothere.exr" --screenshot "$work/x.png"
+expect_fail "view script needs a display" "--script needs a display" env -u DISPLAY -u WAYLAND_DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --script "$work/none.txt"
+expect_fail "view bad window size" "--window-size" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --window-size 0x5 --screenshot "$work/x.png"
+expect_fail "view missing scene" "nowhere.json" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$work/nowhere.json" --headless --screenshot "$work/x.png"
 [ -e "$work/x.png" ] && { echo "FAIL: a failed view left a screenshot"; failures=$((failures + 1)); }
 
 echo "$passes passed, $failures failed"
