@@ -338,9 +338,14 @@ const char* kObj =
     "usemtl chrome\nf 5 2 1\n"
     "usemtl matte\nf -5 -4 -1\n";
 
+// One folder per test: CTest runs the tests that load it in parallel processes.
+std::string testObjFolder() {
+  return std::string("obj_") + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+}
+
 ObjData loadTestObj() {
-  writeFile("obj/scene.mtl", kMtl);
-  return loadObj(writeFile("obj/scene.obj", kObj));
+  writeFile(testObjFolder() + "/scene.mtl", kMtl);
+  return loadObj(writeFile(testObjFolder() + "/scene.obj", kObj));
 }
 
 uint32_t materialIndex(const ObjData& data, const std::string& name) {
@@ -385,7 +390,8 @@ TEST(ObjReader, MapsMtlMaterials) {
   const uint32_t textured = materialIndex(data, "textured");
   EXPECT_EQ(data.materials[textured].type, Material::Type::Diffuse);
   EXPECT_EQ(data.materials[textured].albedo, vec3(0.7f, 0.6f, 0.5f));
-  const std::string folder = std::filesystem::path(test::outputPath("obj/scene.obj")).parent_path();
+  const std::string folder =
+      std::filesystem::path(test::outputPath(testObjFolder() + "/scene.obj")).parent_path();
   EXPECT_EQ(data.diffuseMaps[textured], folder + "/textures/wood.png");
   for (size_t i = 0; i < data.materials.size(); ++i) {
     if (i != textured) {
