@@ -86,7 +86,6 @@ class ViewerApp {
   void setView(float zoom, float x, float y);
   void inspectPixel(int x, int y);
   bool quitRequested() const { return quit_; }
-  void requestQuit() { quit_ = true; }
   // Writes the shown image (linear .exr/.pfm or .png with the exposure); returns a message.
   std::string saveImage(const std::string& path) const;
   // Asks for a screenshot of the next drawn frame (written after it is drawn).
@@ -113,7 +112,6 @@ class ViewerApp {
   void recordFrame(double seconds) { frameStats_.add(seconds); }
   void setRecordFrameTimes(bool own) { recordFrameTimes_ = own; }
   const std::string& lastMessage() const { return message_; }
-  const Camera& camera() const { return camera_; }
 
  private:
   friend void drawPanel(ViewerApp& app);  // view_panel.cpp

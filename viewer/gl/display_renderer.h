@@ -39,9 +39,6 @@ class DisplayRenderer {
   void setSlices(int width, int height, const std::vector<int8_t>& b, const std::vector<int8_t>& c,
                  const std::vector<uint8_t>& selected);
   void setLegend(const Image& strip);  // empty: none
-  int legendHeight() const { return legendHeight_; }
-  int imageWidth() const { return width_; }
-  int imageHeight() const { return height_; }
 
   // Draws into the bound framebuffer's viewport of width x height (both > 0).
   void draw(int width, int height, const DisplayView& view);

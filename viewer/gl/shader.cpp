@@ -38,6 +38,16 @@ std::string readShader(const std::string& name) {
   return text.str();
 }
 
+// The info log of a shader or program (glGetShaderiv/-InfoLog or glGetProgramiv/-InfoLog).
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+  GLint length = 0;
+  getIv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 1)), '\0');
+  getLog(object, length, nullptr, log.data());
+  return log;
+}
+
 unsigned compile(GLenum type, const std::string& name) {
   const std::string source = readShader(name);
   const GLuint shader = glCreateShader(type);
@@ -47,10 +57,7 @@ unsigned compile(GLenum type, const std::string& name) {
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
     throw GlError((fs::path(shaderDirectory()) / name).string() + ": compile error:\n" + log);
   }
@@ -88,10 +95,7 @@ unsigned buildProgram(const std::string& vertex, const std::string& fragment) {
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program, length, nullptr, log.data());
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
     throw GlError(vertex + " + " + fragment + ": link error:\n" + log);
   }
