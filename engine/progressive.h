@@ -39,6 +39,12 @@ struct Snapshot {
   std::vector<uint32_t> keptCount;     // kept samples per pixel
   std::vector<uint32_t> tracedCount;   // traced camera samples per pixel
   std::vector<uint8_t> alphaIndex;     // filter scale chosen per pixel
+  // How the maps are labelled: the bias map's name and range (0: up to its 99th
+  // percentile, for criteria without a fixed scale) and, where the method has its own,
+  // the filter scales' labels (else the caller's alphas label them).
+  std::string biasLabel = "bias";
+  float biasRange = 1.0f;
+  std::vector<std::string> filterScaleLabels;
   int slicesPerSide = 0;
 
   uint64_t keptSamples = 0, tracedSamples = 0, rays = 0;

@@ -32,6 +32,17 @@ float maxOf(const std::vector<float>& values) {
 
 }  // namespace
 
+float percentileOf(const std::vector<float>& values, float q) {
+  std::vector<float> finite;
+  finite.reserve(values.size());
+  for (float v : values)
+    if (std::isfinite(v)) finite.push_back(v);
+  if (finite.empty()) return 1.0f;
+  const size_t k = std::min(finite.size() - 1, size_t(q * float(finite.size() - 1) + 0.5f));
+  std::nth_element(finite.begin(), finite.begin() + k, finite.end());
+  return finite[k] > 0 ? finite[k] : std::max(1e-12f, maxOf(finite));
+}
+
 std::vector<uint64_t> histogram(const std::vector<float>& values, int bins, float maxValue) {
   std::vector<uint64_t> counts(size_t(bins) + 1, 0);
   for (float v : values) {
@@ -50,15 +61,20 @@ std::vector<SnapshotMap> snapshotMaps(const Snapshot& snap, const std::vector<fl
   auto map = [&](const std::string& name, std::vector<float> values, MapLegend legend) {
     if (values.size() == n) maps.push_back({name, std::move(values), std::move(legend)});
   };
-  map("bias", snap.bias, {"bias", MapStyle::Continuous, 0.0f, 1.0f, {}});
+  map("bias", snap.bias,
+      {snap.biasLabel, MapStyle::Continuous, 0.0f,
+       snap.biasRange > 0 ? snap.biasRange : percentileOf(snap.bias, 0.99f), {}});
   map("network_error", snap.networkError,
       {"er", MapStyle::Continuous, 0.0f, std::max(1e-3f, maxOf(snap.networkError)), {}});
   map("selected", asFloats(snap.selected),
       {"sampled last round", MapStyle::Categorical, 0, 1, {"no", "yes"}});
   std::vector<std::string> sliceLabels;
   const int S = std::max(1, snap.slicesPerSide);
-  for (int i = 0; i < S * S; ++i)
-    sliceLabels.push_back("(" + std::to_string(i % S) + "," + std::to_string(i / S) + ")");
+  for (int i = 0; i < S * S; ++i) {
+    char label[32];
+    std::snprintf(label, sizeof label, "(%d,%d)", i % S, i / S);
+    sliceLabels.push_back(label);
+  }
   map("slice_b", asFloats(snap.sliceB), {"slice B", MapStyle::Categorical, 0, 1, sliceLabels});
   map("slice_c", asFloats(snap.sliceC), {"slice C", MapStyle::Categorical, 0, 1, sliceLabels});
   std::vector<float> kept = asFloats(snap.keptCount);
@@ -67,8 +83,9 @@ std::vector<SnapshotMap> snapshotMaps(const Snapshot& snap, const std::vector<fl
   std::vector<float> traced = asFloats(snap.tracedCount);
   const float maxTraced = std::max(1.0f, maxOf(traced));
   map("traced", std::move(traced), {"traced spp", MapStyle::Continuous, 0.0f, maxTraced, {}});
-  std::vector<std::string> alphaLabels;
-  for (float a : alphas) alphaLabels.push_back("a=" + compact(a));
+  std::vector<std::string> alphaLabels = snap.filterScaleLabels;
+  if (alphaLabels.empty())
+    for (float a : alphas) alphaLabels.push_back("a=" + compact(a));
   map("alpha", asFloats(snap.alphaIndex),
       {"filter alpha", MapStyle::Categorical, 0, 1, alphaLabels});
   return maps;

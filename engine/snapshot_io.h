@@ -26,6 +26,10 @@ std::vector<SnapshotMap> snapshotMaps(const Snapshot& snapshot, const std::vecto
 std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapshot& snapshot,
                                            const std::vector<float>& alphas);
 
+// The q-quantile (0..1) of the finite values, for a colour scale; positive (the largest
+// value, or 1e-12, when the quantile is 0; 1 when nothing is finite).
+float percentileOf(const std::vector<float>& values, float q);
+
 // Counts of `values` in `bins` equal bins over [0, maxValue), plus a last bin for
 // values >= maxValue (NaN counted there too).
 std::vector<uint64_t> histogram(const std::vector<float>& values, int bins, float maxValue);

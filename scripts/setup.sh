@@ -13,6 +13,7 @@ packages=(
   libglfw3-dev libimgui-dev python3-glad
   libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libosmesa6-dev
   xvfb xauth
+  python3 python3-matplotlib
   clang libclang-rt-14-dev
 )
 

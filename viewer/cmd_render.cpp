@@ -1,5 +1,5 @@
 // `penumbra render`: renders a scene to an image file, with optional statistics.
-#include "engine/bp_method.h"
+#include "engine/methods.h"
 #include "engine/image_io.h"
 #include "engine/integrator.h"
 #include "engine/render.h"
@@ -86,9 +86,9 @@ void prepareOutputs(const RenderFlags& flags) {
   checkImageExtension("--output", flags.output);
   if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
   if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
-  if (!flags.method.isBp()) {
-    if (!flags.rawPath.empty()) throw CommandError("--raw-out needs --method bp");
-    if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs --method bp");
+  if (flags.method.isLd()) {
+    if (!flags.rawPath.empty()) throw CommandError("--raw-out needs an adaptive --method");
+    if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs an adaptive --method");
   } else if (!flags.variancePath.empty()) {
     throw CommandError("--variance-out is only available with --method ld");
   }
@@ -132,19 +132,16 @@ void runLd(const RenderFlags& flags, const PreparedScene& prepared, int threads)
   warnNonFinite(result.nonFiniteSamples);
 }
 
-void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
-                  const BpConfig& config, const Snapshot& snap,
-                  const std::vector<nlohmann::json>& rounds, size_t memoryBytes, int threads) {
+void writeProgressiveStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                           const MethodSpec& spec, const Snapshot& snap,
+                           const std::vector<nlohmann::json>& rounds, size_t memoryBytes,
+                           int threads) {
   const double pixels = double(snap.width) * snap.height;
   nlohmann::json j = commonStats(flags, scene, threads, snap.seconds, snap.rays, snap.keptSamples);
-  j["method"] = "bp";
-  j["preset"] = flags.method.preset;
-  j["config"] = {{"outlier_removal", config.outlierRemoval}, {"warping", config.warping},
-                 {"stratified_mean", config.stratifiedMean}, {"sigma_c", config.filter.sigmaC},
-                 {"inputs", config.network.inputs},          {"nit", config.network.epochs}};
+  j["method"] = toString(spec.kind);
+  j["description"] = describe(spec.kind);
   j["kept_spp"] = double(snap.keptSamples) / pixels;
   j["traced_spp"] = double(snap.tracedSamples) / pixels;
-  j["coarse_spp"] = config.effectiveCoarseSpp();
   j["rounds"] = snap.round;
   j["nan_samples"] = snap.nonFiniteSamples;
   j["rejected_samples"] = snap.rejectedSamples;
@@ -156,31 +153,54 @@ void writeBpStats(const std::string& path, const RenderFlags& flags, const Scene
       snap.times.total() > 0
           ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
           : 0.0;
-  j["training_gflops"] = snap.trainingKernelSeconds > 0
-                             ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
-                             : 0.0;
-  j["training_simd"] = networkSimdName();
   j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
-  // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
-  // filtering are, so both histograms are part of every run's record.
-  j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
-  std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
-  for (uint8_t a : snap.alphaIndex)
-    if (a < alphaCounts.size()) ++alphaCounts[a];
-  j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
+  if (spec.kind == MethodKind::Bp) {
+    const BpConfig& config = spec.bp;
+    j["preset"] = flags.method.preset;
+    j["config"] = {{"outlier_removal", config.outlierRemoval}, {"warping", config.warping},
+                   {"stratified_mean", config.stratifiedMean}, {"sigma_c", config.filter.sigmaC},
+                   {"inputs", config.network.inputs},          {"nit", config.network.epochs}};
+    j["coarse_spp"] = config.effectiveCoarseSpp();
+    j["training_gflops"] = snap.trainingKernelSeconds > 0
+                               ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
+                               : 0.0;
+    j["training_simd"] = networkSimdName();
+    // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
+    // filtering are, so both histograms are part of every run's record.
+    j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
+    std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
+    for (uint8_t a : snap.alphaIndex)
+      if (a < alphaCounts.size()) ++alphaCounts[a];
+    j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
+  } else {
+    const AllocationConfig& a = spec.allocation;
+    j["config"] = {{"initial_spp", a.initialSpp > 0 ? a.initialSpp : std::min(4, spec.spp)},
+                   {"batch", a.batch > 0 ? a.batch : spec.spp},
+                   {"rounds", a.rounds}};
+    if (spec.kind == MethodKind::FDiv) j["config"]["divergence"] = flags.method.divergence;
+    if (spec.kind == MethodKind::Gem) j["config"]["gamma"] = spec.gamma;
+    if (!snap.alphaIndex.empty()) {
+      std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
+      for (uint8_t a : snap.alphaIndex)
+        if (a < counts.size()) ++counts[a];
+      j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
+    }
+  }
   j["per_round"] = rounds;
   writeJson(path, j);
 }
 
-void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
+// Every method but plain LD: rounds until the budget is spent, then the final snapshot.
+void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
   const Scene& s = prepared.scene;
-  const BpConfig config = flags.method.bpConfig(s.settings.spp, flags.seed, flags.sampler());
+  const MethodSpec spec = flags.method.spec(s.settings.spp, flags.seed, flags.sampler());
   std::unique_ptr<tbb::global_control> limit;
   if (flags.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   size_t(flags.threads));
-  auto method = makeBpMethod(prepared, config);
-  ProgressBar bar("bp " + std::to_string(s.settings.width) + "x" +
+  auto method = makeMethod(prepared, spec);
+  const int maxRounds = spec.kind == MethodKind::Bp ? spec.bp.maxRounds : spec.allocation.rounds;
+  ProgressBar bar(flags.method.method + " " + std::to_string(s.settings.width) + "x" +
                   std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
                   " spp");
   std::vector<nlohmann::json> rounds;
@@ -190,29 +210,33 @@ void runBp(const RenderFlags& flags, const PreparedScene& prepared, int threads)
     method->runRound(nullptr);
     if (wantRounds) {
       const auto snap = method->snapshot(false);
-      size_t difficult = 0;
-      for (size_t p = 0; p < snap->bias.size(); ++p)
-        difficult +=
-            snap->bias[p] > config.psi && snap->networkError[p] > config.network.errorThreshold;
-      rounds.push_back(
-          {{"round", snap->round},
-           {"kept_spp", double(snap->keptSamples) / pixels},
-           {"traced_spp", double(snap->tracedSamples) / pixels},
-           {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
-           {"difficult_pixels", difficult},
-           {"seconds", snap->seconds}});
+      nlohmann::json round = {
+          {"round", snap->round},
+          {"kept_spp", double(snap->keptSamples) / pixels},
+          {"traced_spp", double(snap->tracedSamples) / pixels},
+          {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+          {"seconds", snap->seconds}};
+      if (spec.kind == MethodKind::Bp) {
+        size_t difficult = 0;
+        for (size_t p = 0; p < snap->bias.size(); ++p)
+          difficult += snap->bias[p] > spec.bp.psi &&
+                       snap->networkError[p] > spec.bp.network.errorThreshold;
+        round["difficult_pixels"] = difficult;
+      }
+      rounds.push_back(round);
     }
-    if (!flags.quiet)
-      bar.update(std::min(1.0, double(method->roundsDone()) / (config.maxRounds + 1)));
+    if (!flags.quiet) bar.update(std::min(1.0, double(method->roundsDone()) / (maxRounds + 1)));
   }
   const auto snap = method->snapshot();
   bar.finish();
 
-  writeImage(flags.output, config.reconstruct ? snap->reconstructed : snap->raw, flags.exposure);
+  const bool reconstructed = spec.kind != MethodKind::Bp || spec.bp.reconstruct;
+  writeImage(flags.output, reconstructed ? snap->reconstructed : snap->raw, flags.exposure);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
-  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, config.filter.alphas);
+  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, spec.bp.filter.alphas);
   if (!flags.statsPath.empty())
-    writeBpStats(flags.statsPath, flags, s, config, *snap, rounds, method->memoryBytes(), threads);
+    writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
+                          threads);
   char extra[96];
   std::snprintf(extra, sizeof extra, " (%.1f traced), %d rounds",
                 double(snap->tracedSamples) / pixels, snap->round);
@@ -226,10 +250,10 @@ void run(const RenderFlags& flags) {
   auto prepared = prepareScene(std::move(scene));
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  if (flags.method.isBp())
-    runBp(flags, *prepared, threads);
-  else
+  if (flags.method.isLd())
     runLd(flags, *prepared, threads);
+  else
+    runProgressive(flags, *prepared, threads);
 }
 }  // namespace
 
@@ -264,10 +288,12 @@ void registerRenderCommand(CLI::App& app) {
   c->add_option("--variance-out", flags->variancePath,
                 "Write the per-pixel variance of the mean (per channel) as an image, e.g. var.exr");
   c->add_option("--raw-out", flags->rawPath,
-                "BP method: also write the raw estimate (before reconstruction) to this image");
+                "Adaptive methods: also write the raw estimate (before reconstruction, the box "
+                "mean) to this image");
   c->add_option("--aov-dir", flags->aovDir,
-                "BP method: write the debug maps (bias, er, I', selected pixels, slices B and "
-                "C, sample counts, filter alpha) as EXR and false-colour PNG into this folder");
+                "Adaptive methods: write the debug maps (the method's error estimate as bias; "
+                "BP also er, I', slices B and C; selected pixels, sample counts, filter scale) "
+                "as EXR and false-colour PNG into this folder");
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
   addMethodOptions(*c, flags->method);
   c->callback([flags] { run(*flags); });

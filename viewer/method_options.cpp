@@ -9,9 +9,11 @@ void addMethodOptions(CLI::App& c, MethodOptions& o, bool batchSchedule) {
   NetworkConfig& net = bp.network;
   FilterConfig& filter = bp.filter;
   c.add_option("--method", o.method,
-               "Rendering method: ld (low-discrepancy sampling, box filter) or bp (the BP "
-               "network adaptive sampling and reconstruction)")
-      ->check(CLI::IsMember({"ld", "bp"}))
+               "Rendering method: ld (low-discrepancy sampling, box filter), bp (the BP "
+               "network adaptive sampling and reconstruction), or a baseline: fdiv "
+               "(f-divergence), fuzzy (fuzzy uncertainty, re-implemented), gem (greedy error "
+               "minimisation with its filterbank), cycles (half-buffer error)")
+      ->check(CLI::IsMember(methodNames()))
       ->capture_default_str();
 
   c.add_option("--preset", o.preset,
@@ -116,7 +118,8 @@ void addMethodOptions(CLI::App& c, MethodOptions& o, bool batchSchedule) {
       ->capture_default_str()
       ->group(schedule);
   if (batchSchedule)
-    c.add_option("--rounds", bp.maxRounds, "Adaptive rounds that spend the rest of the budget")
+    c.add_option("--rounds", bp.maxRounds,
+                 "Adaptive rounds that spend the rest of the budget (BP and the baselines)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str()
         ->group(schedule);
@@ -125,6 +128,27 @@ void addMethodOptions(CLI::App& c, MethodOptions& o, bool batchSchedule) {
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str()
       ->group(schedule);
+
+  const char* baselines = "Baselines: fdiv, fuzzy, gem, cycles (ALGORITHM.md section 10)";
+  c.add_option("--initial-spp", o.allocation.initialSpp,
+               "Samples per pixel of the initial pass N0 (0 = min(4, spp))")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str()
+      ->group(baselines);
+  c.add_option("--batch", o.allocation.batch,
+               "Samples a chosen pixel gets per round (0 = spp; 8 in the viewer)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str()
+      ->group(baselines);
+  c.add_option("--divergence", o.divergence,
+               "fdiv: hellinger (the BP paper's eq. 15), kl (Kullback-Leibler) or chi2")
+      ->check(CLI::IsMember({"hellinger", "kl", "chi2"}))
+      ->capture_default_str()
+      ->group(baselines);
+  c.add_option("--gamma", o.gamma, "gem: confidence gamma of the bias test")
+      ->check(CLI::Range(1e-4f, 0.52f))
+      ->capture_default_str()
+      ->group(baselines);
 
   const char* ablation = "BP method: ablations (ALGORITHM.md section 12)";
   c.add_option("--targets", o.targets,
@@ -193,6 +217,26 @@ BpConfig MethodOptions::bpConfig(int spp, uint64_t seed, SamplerKind sampler) co
   const std::string problem = c.validate();
   if (!problem.empty()) throw CommandError(problem);
   return c;
+}
+
+MethodSpec MethodOptions::spec(int spp, uint64_t seed, SamplerKind sampler) const {
+  MethodSpec s;
+  const auto kind = parseMethodKind(method);
+  if (!kind) throw CommandError("--method: unknown method '" + method + "'");
+  s.kind = *kind;
+  s.seed = seed;
+  s.spp = spp;
+  s.sampler = sampler;
+  if (s.kind == MethodKind::Bp) s.bp = bpConfig(spp, seed, sampler);
+  s.allocation = allocation;
+  s.allocation.rounds = bp.maxRounds;
+  s.divergence = divergence == "kl"     ? Divergence::KullbackLeibler
+                 : divergence == "chi2" ? Divergence::ChiSquare
+                                        : Divergence::Hellinger;
+  s.gamma = gamma;
+  const std::string problem = validate(s);
+  if (!problem.empty()) throw CommandError(problem);
+  return s;
 }
 
 }  // namespace penumbra

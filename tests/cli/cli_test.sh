@@ -92,7 +92,7 @@ grep -q '"sigma_c": 0.2' "$work/bpt2.json" && passes=$((passes + 1)) || { echo "
 expect_fail "bad preset" "--preset" "$penumbra" render "$cornell" --method bp --preset best -o "$work/x.png"
 expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --phi 0.3,0.5
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
-expect_fail "aov dir needs bp" "--aov-dir needs --method bp" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
+expect_fail "aov dir needs an adaptive method" "--aov-dir needs an adaptive --method" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
 expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
 
 # The viewer, headless (no display): screenshots, the fallback without a display, bad flags.
