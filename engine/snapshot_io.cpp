@@ -87,7 +87,8 @@ std::vector<SnapshotMap> snapshotMaps(const Snapshot& snap, const std::vector<fl
   if (alphaLabels.empty())
     for (float a : alphas) alphaLabels.push_back("a=" + compact(a));
   map("alpha", asFloats(snap.alphaIndex),
-      {"filter alpha", MapStyle::Categorical, 0, 1, alphaLabels});
+      {snap.filterScaleLabels.empty() ? "filter alpha" : "filter scale", MapStyle::Categorical, 0,
+       1, alphaLabels});
   return maps;
 }
 

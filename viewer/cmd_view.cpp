@@ -68,6 +68,7 @@ ViewOptions makeOptions(const ViewFlags& f) {
   o.scene = prepareScene(std::move(scene));
   o.method = f.method.method;
   o.bp = f.method.bpConfig(16, f.seed, SamplerKind::LowDiscrepancy);
+  o.baseline = f.method.spec(16, f.seed, SamplerKind::LowDiscrepancy);
   o.seed = f.seed;
   o.threads = f.threads;
   o.roundSpp = f.roundSpp;

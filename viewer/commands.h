@@ -18,6 +18,8 @@ struct CommandError : std::runtime_error {
 void registerRenderCommand(CLI::App& app);
 void registerDiffCommand(CLI::App& app);
 void registerViewCommand(CLI::App& app);
+void registerReferenceCommand(CLI::App& app);
+void registerCompareCommand(CLI::App& app);
 
 // Writes `j` to `path` atomically, indented (cmd_render.cpp).
 void writeJson(const std::string& path, const nlohmann::json& j);

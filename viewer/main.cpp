@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   penumbra::registerRenderCommand(app);
   penumbra::registerDiffCommand(app);
   penumbra::registerViewCommand(app);
+  penumbra::registerReferenceCommand(app);
   // One line per error, naming the command: "penumbra render: error: --spp: ...".
   auto fail = [&](const char* message, int status) {
     const auto subs = app.get_subcommands();

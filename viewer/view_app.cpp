@@ -32,6 +32,17 @@ int previewBlock(int width) { return std::clamp(width / 64, 2, 16); }
 // Room the panel takes on the left of the window (its width plus margins).
 constexpr int kPanelWidth = 356;
 
+// A baseline's open-ended run as the options describe it.
+MethodSpec baselineSpec(const ViewOptions& o) {
+  MethodSpec s = o.baseline;
+  s.kind = parseMethodKind(o.method).value_or(MethodKind::Ld);
+  s.seed = o.seed;
+  s.openEnded = true;
+  s.roundSpp = o.roundSpp;
+  s.maxSpp = o.targetSpp;
+  return s;
+}
+
 // The method a (re)start runs on `view`, built on the session's worker thread from a copy
 // of the options taken at the restart (the UI thread goes on changing its own).
 std::unique_ptr<ProgressiveMethod> makeViewMethod(const PreparedScene& view, const ViewOptions& o) {
@@ -43,12 +54,15 @@ std::unique_ptr<ProgressiveMethod> makeViewMethod(const PreparedScene& view, con
     c.maxSpp = o.targetSpp;
     return makeLdMethod(view, c);
   }
-  BpConfig c = o.bp;
-  c.seed = o.seed;
-  c.openEnded = true;
-  c.roundSpp = o.roundSpp;
-  c.maxSpp = o.targetSpp;
-  return makeBpMethod(view, c);
+  if (o.method == "bp") {
+    BpConfig c = o.bp;
+    c.seed = o.seed;
+    c.openEnded = true;
+    c.roundSpp = o.roundSpp;
+    c.maxSpp = o.targetSpp;
+    return makeBpMethod(view, c);
+  }
+  return makeMethod(view, baselineSpec(o));
 }
 
 }  // namespace
@@ -117,7 +131,9 @@ void ViewerApp::restart() {
   BpConfig check = options_.bp;
   check.openEnded = true;
   check.roundSpp = options_.roundSpp;
-  configError_ = options_.method == "bp" ? check.validate() : "";
+  configError_ = options_.method == "bp"   ? check.validate()
+                 : options_.method == "ld" ? ""
+                                           : validate(baselineSpec(options_));
   if (!configError_.empty()) {
     message_ = "not restarted: " + configError_;
     return;

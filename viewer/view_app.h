@@ -5,7 +5,7 @@
 // headless backends drive the same object, so a screenshot shows what a person sees.
 #pragma once
 
-#include "engine/bp_method.h"
+#include "engine/methods.h"
 #include "engine/integrator.h"
 #include "engine/overlays.h"
 #include "engine/session.h"
@@ -23,8 +23,9 @@ class ImGuiRenderer;
 
 struct ViewOptions {
   std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
-  std::string method = "bp";                   // "bp" or "ld"
+  std::string method = "bp";                   // a name of methodNames()
   BpConfig bp;                                 // seed, network and filter parameters
+  MethodSpec baseline;                         // the baselines' schedule and criteria
   uint64_t seed = 0;
   int threads = 0;          // render threads (0 = all cores)
   int targetSpp = 0;        // stop at this average kept spp (0 = refine until stopped)

@@ -21,10 +21,17 @@ ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
 // The method's parameters; returns true when one changed (the caller restarts).
 bool methodParameters(ViewOptions& o) {
   bool changed = false;
-  int method = o.method == "ld" ? 0 : 1;
-  if (ImGui::Combo("method", &method, "ld (low discrepancy)\0bp (BP networks)\0")) {
-    o.method = method == 0 ? "ld" : "bp";
-    changed = true;
+  const std::vector<std::string>& names = methodNames();
+  int method = int(std::find(names.begin(), names.end(), o.method) - names.begin());
+  if (ImGui::BeginCombo("method", o.method.c_str())) {
+    for (int i = 0; i < int(names.size()); ++i) {
+      const std::string label = names[size_t(i)] + " - " + describe(*parseMethodKind(names[size_t(i)]));
+      if (ImGui::Selectable(label.c_str(), i == method)) {
+        o.method = names[size_t(i)];
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
   }
   changed |= ImGui::InputInt("target spp (0: open)", &o.targetSpp);
   o.targetSpp = std::max(0, o.targetSpp);
@@ -33,6 +40,18 @@ bool methodParameters(ViewOptions& o) {
   if (ImGui::InputInt("seed", &seed)) {
     o.seed = uint64_t(std::max(0, seed));
     changed = true;
+  }
+  if (o.method != "bp" && o.method != "ld") {
+    AllocationConfig& a = o.baseline.allocation;
+    changed |= ImGui::SliderInt("batch per chosen pixel (0: 8)", &a.batch, 0, 64);
+    if (o.method == "fdiv") {
+      int d = int(o.baseline.divergence);
+      if (ImGui::Combo("divergence", &d, "Hellinger\0Kullback-Leibler\0chi-square\0")) {
+        o.baseline.divergence = Divergence(d);
+        changed = true;
+      }
+    }
+    if (o.method == "gem") changed |= ImGui::SliderFloat("gamma", &o.baseline.gamma, 0.01f, 0.5f);
   }
   if (o.method != "bp") return changed;
   BpConfig& bp = o.bp;
@@ -61,12 +80,12 @@ bool methodParameters(ViewOptions& o) {
     changed |= ImGui::SliderFloat("sigma_c", &bp.filter.sigmaC, 0.005f, 1.0f, "%.3f",
                                   ImGuiSliderFlags_Logarithmic);
     for (size_t i = 0; i < bp.filter.phi.size(); ++i) {
-      char label[16];
+      char label[32];
       std::snprintf(label, sizeof label, "phi %zu", i + 1);
       changed |= ImGui::SliderFloat(label, &bp.filter.phi[i], 0.0f, 2.0f, "%.2f");
     }
     for (size_t i = 0; i < bp.filter.alphas.size(); ++i) {
-      char label[16];
+      char label[32];
       std::snprintf(label, sizeof label, "alpha %zu", i + 1);
       changed |= ImGui::SliderFloat(label, &bp.filter.alphas[i], 0.01f, 20.0f, "%.2f",
                                     ImGuiSliderFlags_Logarithmic);
@@ -312,6 +331,21 @@ void drawInspector(ViewerApp& app) {
     if (in->sliceB >= 0)
       ImGui::Text("B = slice %d, C = slice %d, eq. 14 %.3f, %s", in->sliceB, in->sliceC,
                   in->contrast, in->warped ? "B's sample warped into C" : "no warping");
+  } else if (in->method != "ld") {
+    const auto snap = app.snapshot_;
+    ImGui::Text("%s %.4g", snap ? snap->biasLabel.c_str() : "score", in->bias);
+    if (in->rank >= 0)
+      ImGui::Text("rank %d; the last round sampled the top %zu", in->rank + 1, in->rankedPixels);
+    if (snap && !snap->alphaIndex.empty() && !snap->filterScaleLabels.empty()) {
+      const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
+      ImGui::Text("filter scale %s", a < snap->filterScaleLabels.size()
+                                         ? snap->filterScaleLabels[a].c_str()
+                                         : "?");
+    }
+  }
+  if (in->samples.empty() && in->candidates.empty()) {  // the baselines store no samples
+    ImGui::End();
+    return;
   }
   // The pixel drawn large: slices, B and C, the stored samples coloured by value (viridis),
   // last round's candidates as rings (filled: kept).
