@@ -388,6 +388,20 @@ void writePng8(const std::string& path, int width, int height, int channels,
   });
 }
 
+std::vector<uint8_t> encodePng8(int width, int height, int channels,
+                                const std::vector<uint8_t>& data) {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      data.size() != size_t(width) * height * channels)
+    throw ImageIoError("cannot encode " + std::to_string(data.size()) + " bytes as a " +
+                       std::to_string(width) + "x" + std::to_string(height) + "x" +
+                       std::to_string(channels) + " PNG");
+  std::vector<unsigned char> bytes;
+  if (!stbi_write_png_to_func(appendToVector, &bytes, width, height, channels, data.data(),
+                              width * channels))
+    throw ImageIoError("PNG encoding failed");
+  return bytes;
+}
+
 std::vector<uint8_t> readPng8(const std::string& path, int& width, int& height) {
   int channels = 0;
   unsigned char* pixels = stbi_load(path.c_str(), &width, &height, &channels, 4);

@@ -43,6 +43,10 @@ std::string lowercaseExtension(const std::string& path);
 // atomically; for screenshots, whose bytes are already what the screen shows.
 void writePng8(const std::string& path, int width, int height, int channels,
                const std::vector<uint8_t>& data);
+// The PNG file bytes of display-encoded 8-bit pixels (channels 1-4, top row first), for
+// embedding or writing elsewhere. Throws ImageIoError on bad sizes or an encoding failure.
+std::vector<uint8_t> encodePng8(int width, int height, int channels,
+                                const std::vector<uint8_t>& data);
 // Reads an 8-bit image file as RGBA bytes, top row first, with no colour conversion.
 std::vector<uint8_t> readPng8(const std::string& path, int& width, int& height);
 

@@ -257,6 +257,11 @@ void run(const RenderFlags& flags) {
 }
 }  // namespace
 
+std::string& commandLine() {
+  static std::string line;
+  return line;
+}
+
 void writeJson(const std::string& path, const nlohmann::json& j) {
   writeFileAtomically(path, [&](const std::string& tmp) {
     std::ofstream out(tmp);

@@ -21,6 +21,9 @@ void registerViewCommand(CLI::App& app);
 void registerReferenceCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
 
+// The command line as typed (argv[0] shown as "penumbra"), for records such as reports.
+std::string& commandLine();
+
 // Writes `j` to `path` atomically, indented (cmd_render.cpp).
 void writeJson(const std::string& path, const nlohmann::json& j);
 

@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
   penumbra::registerDiffCommand(app);
   penumbra::registerViewCommand(app);
   penumbra::registerReferenceCommand(app);
+  penumbra::registerCompareCommand(app);
+  for (int i = 0; i < argc; ++i)
+    penumbra::commandLine() += (i ? " " : "") + std::string(i ? argv[i] : "penumbra");
   // One line per error, naming the command: "penumbra render: error: --spp: ...".
   auto fail = [&](const char* message, int status) {
     const auto subs = app.get_subcommands();
