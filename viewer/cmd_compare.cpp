@@ -11,6 +11,7 @@
 #include "engine/integrator.h"
 #include "engine/methods.h"
 #include "engine/metrics.h"
+#include "engine/render.h"
 #include "engine/report.h"
 #include "viewer/commands.h"
 #include "viewer/method_options.h"
@@ -40,6 +41,7 @@ struct CompareFlags {
   int seeds = 5;
   uint64_t firstSeed = 1;
   double equalTime = 0;
+  int referenceSpp = 4096;
   int threads = 0;
   float exposure = 0;
   bool quiet = false;
@@ -168,25 +170,53 @@ std::shared_ptr<Snapshot> runOnce(const PreparedScene& prepared, const MethodSpe
 
 void run(CompareFlags flags) {
   if (flags.outDir.empty()) throw CommandError("--out: an output folder is needed");
-  if (!std::filesystem::exists(flags.referencePath))
+  if (!flags.referencePath.empty() && !std::filesystem::exists(flags.referencePath))
     throw CommandError("--reference " + flags.referencePath +
                        ": no such file (render one with `penumbra reference " +
-                       flags.scene.scenePath + " --spp 8192 -o " + flags.referencePath + "`)");
-  Image reference;
-  try {
-    reference = readImage(flags.referencePath);
-  } catch (const ImageIoError& e) {
-    throw CommandError(std::string("--reference ") + e.what());
-  }
+                       flags.scene.scenePath + " --spp 8192 -o " + flags.referencePath +
+                       "`, or leave --reference out to have compare render one)");
   if (flags.spp > 0) flags.scene.spp = flags.spp;
   Scene scene = loadSceneWithOptions(flags.scene);
   const int spp = scene.settings.spp;
+  const std::vector<Entry> entries = parseEntries(flags.methods, spp);
+  std::string referenceNote;
+  Image reference;
+  if (flags.referencePath.empty()) {
+    // No reference given: render one (low discrepancy, same integrator) and keep it in DIR
+    // so the next comparison can reuse it.
+    std::filesystem::create_directories(flags.outDir);
+    flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
+    auto refScene = prepareScene(scene);
+    RenderOptions options;
+    options.spp = flags.referenceSpp;
+    options.seed = 999;
+    options.threads = flags.threads;
+    if (!flags.quiet)
+      std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
+                  flags.referenceSpp);
+    std::fflush(stdout);
+    const RenderResult ref = renderImage(*refScene, options);
+    writeImage(flags.referencePath, ref.image);
+    reference = ref.image;
+    double residual = 0;
+    for (const vec3& v : ref.varianceOfMean.pixels) residual += (double(v.x) + v.y + v.z) / 3.0;
+    residual /= double(std::max<size_t>(1, ref.varianceOfMean.pixels.size()));
+    char note[160];
+    std::snprintf(note, sizeof note, "rendered by compare at %d spp; its residual MSE %.3g",
+                  flags.referenceSpp, residual);
+    referenceNote = note;
+  } else {
+    try {
+      reference = readImage(flags.referencePath);
+    } catch (const ImageIoError& e) {
+      throw CommandError(std::string("--reference ") + e.what());
+    }
+  }
   if (reference.width != scene.settings.width || reference.height != scene.settings.height)
     throw CommandError("--reference " + flags.referencePath + " is " +
                        std::to_string(reference.width) + "x" + std::to_string(reference.height) +
                        " but the render is " + std::to_string(scene.settings.width) + "x" +
                        std::to_string(scene.settings.height) + " (give --size)");
-  const std::vector<Entry> entries = parseEntries(flags.methods, spp);
   auto prepared = prepareScene(std::move(scene));
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -200,6 +230,7 @@ void run(CompareFlags flags) {
   if (!flags.title.empty()) r.title = flags.title;
   r.scenePath = flags.scene.scenePath;
   r.referencePath = flags.referencePath;
+  if (!referenceNote.empty()) r.referencePath += " (" + referenceNote + ")";
   r.mode = flags.equalTime > 0 ? "equal time (" + elapsed(flags.equalTime) + " per run)"
                                : "equal kept spp (" + std::to_string(spp) + ")";
   r.commandLine = flags.commandLine;
@@ -300,8 +331,12 @@ void registerCompareCommand(CLI::App& app) {
                 "@SPP overrides --spp, e.g. ld,gem,bp:tuned,ld@64")
       ->capture_default_str();
   c->add_option("--reference", flags->referencePath,
-                "Reference image (.exr), e.g. from `penumbra reference`")
-      ->required();
+                "Reference image (.exr), e.g. from `penumbra reference` (default: render one "
+                "at --reference-spp into DIR/reference.exr)");
+  c->add_option("--reference-spp", flags->referenceSpp,
+                "Samples per pixel of the reference rendered when --reference is not given")
+      ->check(CLI::Range(1, 1 << 24))
+      ->capture_default_str();
   c->add_option("--out", flags->outDir, "Output folder")->required();
   c->add_option("--seeds", flags->seeds, "Seeds per method (1, 2, ...); MSE is their mean")
       ->check(CLI::Range(1, 1000))
