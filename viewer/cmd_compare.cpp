@@ -81,6 +81,8 @@ int parsePositive(const std::string& what, const std::string& text) {
 std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
   std::vector<Entry> entries;
   std::set<std::string> labels;
+  if (!list.empty() && list.back() == ',')
+    throw CommandError("--methods: empty entry in '" + list + "'");
   for (const std::string& item : split(list, ',')) {
     if (item.empty()) throw CommandError("--methods: empty entry in '" + list + "'");
     Entry e;
@@ -169,7 +171,12 @@ std::shared_ptr<Snapshot> runOnce(const PreparedScene& prepared, const MethodSpe
 }
 
 void run(CompareFlags flags) {
-  if (flags.outDir.empty()) throw CommandError("--out: an output folder is needed");
+  if (!flags.referencePath.empty()) {
+    const std::string ext = lowercaseExtension(flags.referencePath);
+    if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
+      throw CommandError("--reference " + flags.referencePath +
+                         ": a reference must be linear (.exr, .pfm or .hdr), not an 8-bit image");
+  }
   if (!flags.referencePath.empty() && !std::filesystem::exists(flags.referencePath))
     throw CommandError("--reference " + flags.referencePath +
                        ": no such file (render one with `penumbra reference " +

@@ -95,6 +95,110 @@ expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o 
 expect_fail "aov dir needs an adaptive method" "--aov-dir needs an adaptive --method" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
 expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
 
+# check "description" command...: the command's exit status is the verdict.
+check() {
+  local what=$1
+  shift
+  if "$@"; then passes=$((passes + 1)); else echo "FAIL: $what"; failures=$((failures + 1)); fi
+}
+
+# The baselines through `render`: statistics, debug maps and the raw estimate.
+for m in gem fuzzy cycles; do
+  expect_ok "render $m" "$penumbra" render "$cornell" --method $m --spp 8 --size 16x16 -o "$work/$m.exr" --raw-out "$work/${m}_raw.exr" --stats "$work/$m.json" --aov-dir "$work/aov_$m" -q
+  check "$m stats (method, kept spp, filter histogram)" python3 -c '
+import json, sys
+m, path = sys.argv[1], sys.argv[2]
+j = json.load(open(path))
+assert j["method"] == m, j["method"]
+assert j["kept_spp"] == 8, j["kept_spp"]
+assert j["width"] == 16 and j["height"] == 16
+if m == "gem":
+    h = j["filter_scale_histogram"]
+    assert len(h["counts"]) == len(h["scales"]) and sum(h["counts"]) == 16 * 16, h
+' $m "$work/$m.json"
+  for f in "$work/$m.exr" "$work/${m}_raw.exr" "$work/aov_$m/bias.png"; do
+    [ -s "$f" ] || { echo "FAIL: render --method $m did not write $f"; failures=$((failures + 1)); }
+  done
+done
+
+# `penumbra reference`: the image, its variance and a JSON record of how converged it is.
+ref="$work/ref/ref.exr"
+expect_ok "reference" "$penumbra" reference "$cornell" --size 24x24 --spp 32 -o "$ref" -q
+for f in ref.exr ref_var.exr ref.json; do
+  [ -s "$work/ref/$f" ] || { echo "FAIL: reference did not write $f"; failures=$((failures + 1)); }
+done
+check "reference record" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["spp"] == 32 and j["width"] == 24 and j["height"] == 24, j
+assert j["time_seconds"] > 0 and j["residual_mse"] > 0, j
+' "$work/ref/ref.json"
+expect_fail "reference to a png" "must be linear" "$penumbra" reference "$cornell" --size 24x24 --spp 4 -o "$work/refx.png"
+expect_fail "reference spp 0" "--spp" "$penumbra" reference "$cornell" --size 24x24 --spp 0 -o "$work/refx.exr"
+[ -e "$work/refx.png" ] || [ -e "$work/refx.exr" ] && { echo "FAIL: a failed reference left an image"; failures=$((failures + 1)); }
+
+# `penumbra compare`: five entries (a preset, a per-entry spp) times two seeds.
+cmp="$work/cmp"
+expect_ok "compare" "$penumbra" compare "$cornell" --size 24x24 --methods ld,fdiv,gem,bp:tuned,ld@32 --spp 8 --seeds 2 --reference "$ref" --out "$cmp"
+grep -q "report.html: .* has the lowest MSE" "$work/out.txt" && passes=$((passes + 1)) || { echo "FAIL: compare printed no summary line"; failures=$((failures + 1)); }
+check "results.csv: header and 10 rows" test "$(wc -l <"$cmp/results.csv")" -eq 11
+check "results.csv header" grep -q '^label,seed,spp,kept_spp,' "$cmp/results.csv"
+check "results.csv: every entry has seeds 1 and 2" test "$(cut -d, -f1,2 "$cmp/results.csv" | tail -n +2 | LC_ALL=C sort | tr '\n' ' ')" = "bp:tuned,1 bp:tuned,2 fdiv,1 fdiv,2 gem,1 gem,2 ld,1 ld,2 ld@32,1 ld@32,2 "
+check "results.csv: ld@32 keeps 32 spp" test "$(awk -F, '$1 == "ld@32" && $3 == 32 && $4 == 32' "$cmp/results.csv" | wc -l)" -eq 2
+check "results.csv: ld keeps 8 spp" test "$(awk -F, '$1 == "ld" && $4 == 8' "$cmp/results.csv" | wc -l)" -eq 2
+check "results.json" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+labels = [m["label"] for m in j["methods"]]
+assert labels == ["ld", "fdiv", "gem", "bp:tuned", "ld@32"], labels
+assert all(len(m["runs"]) == 2 for m in j["methods"])
+assert j["winner"]["mse"] in labels, j["winner"]
+best = min(j["methods"], key=lambda m: m["mse"]["mean"])["label"]
+assert j["winner"]["mse"] == best, (j["winner"]["mse"], best)
+assert [m["kept_spp"]["mean"] for m in j["methods"]] == [8, 8, 8, 8, 32]
+' "$cmp/results.json"
+check "report.html embeds its images" grep -q "data:image/png;base64," "$cmp/report.html"
+check "report.html links nothing outside" bash -c '! grep -Eq "https?://" "$1"' _ "$cmp/report.html"
+check "report.md has a gem row" grep -q '^| gem | ' "$cmp/report.md"
+for f in ld.png ld_32.png gem.png bp_tuned.png; do
+  check "images/$f is a PNG" test "$(head -c 4 "$cmp/images/$f" 2>/dev/null | tail -c 3)" = PNG
+done
+
+# Equal time: every run gets at least its 0.3 s, so LD adds rounds past its 8 spp.
+expect_ok "compare equal time" "$penumbra" compare "$cornell" --size 24x24 --methods ld,gem --spp 8 --seeds 1 --equal-time 0.3 --reference "$ref" --out "$work/eqt" -q
+check "equal time runs" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["mode"].startswith("equal time"), j["mode"]
+assert [m["label"] for m in j["methods"]] == ["ld", "gem"]
+for m in j["methods"]:
+    for r in m["runs"]:
+        assert r["seconds"] >= 0.3, (m["label"], r["seconds"])
+assert j["methods"][0]["runs"][0]["kept_spp"] > 8, j["methods"][0]["runs"][0]
+' "$work/eqt/results.json"
+
+# Bad compares: one line naming the problem, and no report in the output folder.
+bad="$work/bad"
+compare_args=(compare "$cornell" --size 24x24 --spp 2 --seeds 1 --reference "$ref")
+expect_fail "compare unknown method" "unknown method 'magic'" "$penumbra" "${compare_args[@]}" --methods ld,magic --out "$bad"
+expect_fail "compare unknown modifier" "unknown modifier 'fast' in 'ld:fast'" "$penumbra" "${compare_args[@]}" --methods ld:fast --out "$bad"
+expect_fail "compare preset on a baseline" "unknown modifier 'tuned' in 'gem:tuned'" "$penumbra" "${compare_args[@]}" --methods gem:tuned --out "$bad"
+expect_fail "compare duplicate entry" "'ld' is listed twice" "$penumbra" "${compare_args[@]}" --methods ld,gem,ld --out "$bad"
+expect_fail "compare bad entry spp" "ld@0: expected a positive whole number" "$penumbra" "${compare_args[@]}" --methods ld@0 --out "$bad"
+expect_fail "compare trailing comma" "empty entry in 'ld,'" "$penumbra" "${compare_args[@]}" --methods ld, --out "$bad"
+expect_fail "compare 8-bit reference" "a reference must be linear" "$penumbra" compare "$cornell" --size 24x24 --methods ld --reference "$work/x.png" --out "$bad"
+expect_fail "compare missing reference" "nothere.exr: no such file (render one with \`penumbra reference" "$penumbra" compare "$cornell" --size 24x24 --methods ld --reference "$work/nothere.exr" --out "$bad"
+expect_fail "compare reference size" "is 24x24 but the render is 16x16 (give --size)" "$penumbra" compare "$cornell" --size 16x16 --methods ld --reference "$ref" --out "$bad"
+expect_fail "compare crop outside" "--crop 20,20,8,8: outside the 24x24 image" "$penumbra" "${compare_args[@]}" --methods ld --crop 20,20,8,8 --out "$bad"
+expect_fail "compare without --out" "--out" "$penumbra" "${compare_args[@]}" --methods ld
+[ -e "$bad/results.json" ] && { echo "FAIL: a failed compare left results.json"; failures=$((failures + 1)); }
+# A compare that fails while writing leaves no partial results.json and no temporaries.
+mkdir -p "$work/broken/report.md"
+expect_fail "compare unwritable report" "report.md" "$penumbra" "${compare_args[@]}" --methods ld --out "$work/broken" -q
+[ ! -e "$work/broken/results.json" ] || python3 -c 'import json, sys; json.load(open(sys.argv[1]))' "$work/broken/results.json" ||
+  { echo "FAIL: a failed compare left a partial results.json"; failures=$((failures + 1)); }
+[ -n "$(find "$work/broken" -name '*.tmp-*')" ] && { echo "FAIL: a failed compare left temporary files"; failures=$((failures + 1)); }
+
 # The viewer, headless (no display): screenshots, the fallback without a display, bad flags.
 # PENUMBRA_VIEW_ENV: variables the sanitizer build gives the viewer (tests/CMakeLists.txt).
 read -r -a view_env <<<"${PENUMBRA_VIEW_ENV:-}"
