@@ -3,6 +3,7 @@
 #include "engine/allocation.h"
 
 #include "engine/methods.h"
+#include "engine/overlays.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -192,6 +193,29 @@ TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   EXPECT_FALSE(in.reason.empty());
   EXPECT_GE(in.rank, 0);
   EXPECT_FALSE(method->inspect(16, 0).valid);
+}
+
+TEST_P(Baseline, ViewerOverlaysHaveTheirMaps) {
+  auto prepared = test::shippedScene("cornell", 16);
+  auto method = makeMethod(*prepared, specFor(GetParam(), 8, 1));
+  const auto snap = runToEnd(*method);
+  for (Overlay o : {Overlay::Bias, Overlay::Selected, Overlay::SampleCount, Overlay::TracedCount}) {
+    const OverlayImage image = buildOverlay(*snap, o, snap->reconstructed, nullptr, {});
+    EXPECT_TRUE(image.available()) << int(o) << ": " << image.unavailable;
+  }
+  const OverlayImage bias = buildOverlay(*snap, Overlay::Bias, snap->reconstructed, nullptr, {});
+  EXPECT_EQ(bias.legend.title, snap->biasLabel);
+  EXPECT_GT(bias.legend.maxValue, 0.0f);
+  // The filter scale: GEM has its own, labelled by sigma; the box-mean criteria none.
+  const OverlayImage scale =
+      buildOverlay(*snap, Overlay::FilterScale, snap->reconstructed, nullptr, {});
+  if (GetParam() == MethodKind::Gem) {
+    ASSERT_TRUE(scale.available());
+    ASSERT_EQ(scale.legend.labels.size(), 9u);
+    EXPECT_EQ(scale.legend.labels[1], "s=0.71");
+  } else {
+    EXPECT_FALSE(scale.available());
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, Baseline,
