@@ -428,9 +428,11 @@ std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend&
     if (shown++ == kMaxUnlabelledSwatches) break;
     items->push_back({true, categoryColor(category, count), std::to_string(category)});
   }
-  if (unlabelled.size() > kMaxUnlabelledSwatches)
-    items->push_back({false, vec3(0.0f),
-                      "+" + std::to_string(unlabelled.size() - kMaxUnlabelledSwatches) + " more"});
+  if (unlabelled.size() > kMaxUnlabelledSwatches) {
+    char more[40];
+    std::snprintf(more, sizeof more, "+%zu more", unlabelled.size() - kMaxUnlabelledSwatches);
+    items->push_back({false, vec3(0.0f), more});
+  }
   if (anyNone) items->push_back({true, noneColor(), "none"});
   return colors;
 }

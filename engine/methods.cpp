@@ -19,8 +19,9 @@ constexpr Entry kMethods[] = {
     {MethodKind::Cycles, "cycles", "Cycles half-buffer error (Dammertz et al. 2010)"},
 };
 
-AllocationConfig allocationOf(const MethodSpec& s) {
-  AllocationConfig c = s.allocation;
+// A method's configuration with the run's shape (seed, budget, open-ended or not) set.
+template <typename Config>
+Config withShape(Config c, const MethodSpec& s) {
   c.seed = s.seed;
   c.spp = s.spp;
   c.openEnded = s.openEnded;
@@ -29,17 +30,8 @@ AllocationConfig allocationOf(const MethodSpec& s) {
   c.sampler = s.sampler;
   return c;
 }
-
-BpConfig bpOf(const MethodSpec& s) {
-  BpConfig c = s.bp;
-  c.seed = s.seed;
-  c.spp = s.spp;
-  c.openEnded = s.openEnded;
-  c.roundSpp = s.roundSpp;
-  c.maxSpp = s.maxSpp;
-  c.sampler = s.sampler;
-  return c;
-}
+AllocationConfig allocationOf(const MethodSpec& s) { return withShape(s.allocation, s); }
+BpConfig bpOf(const MethodSpec& s) { return withShape(s.bp, s); }
 }  // namespace
 
 std::optional<MethodKind> parseMethodKind(std::string_view name) {

@@ -141,4 +141,24 @@ Image falseColor(const Image& scalar, float maxValue) {
   return out;
 }
 
+Convergence convergenceOf(const Image& mean, const Image& varianceOfMean) {
+  if (mean.width != varianceOfMean.width || mean.height != varianceOfMean.height)
+    throw std::invalid_argument("convergenceOf: the variance image's size differs");
+  Convergence c;
+  size_t counted = 0;
+  for (size_t p = 0; p < mean.pixels.size(); ++p) {
+    const vec3 v = varianceOfMean.pixels[p];
+    const double y = luminance(mean.pixels[p]), var = luminance(v);
+    if (!std::isfinite(var) || !std::isfinite(y)) continue;
+    c.meanRelativeError += std::sqrt(std::max(0.0, var)) / (std::abs(y) + 1e-2);
+    c.residualMse += (double(v.x) + v.y + v.z) / 3.0;
+    ++counted;
+  }
+  if (counted) {
+    c.meanRelativeError /= double(counted);
+    c.residualMse /= double(counted);
+  }
+  return c;
+}
+
 }  // namespace penumbra

@@ -27,6 +27,15 @@ ImageMetrics compareImages(const Image& test, const Image& reference);
 // the largest finite value (0 if there is none). Throws std::invalid_argument on a size mismatch.
 Image errorImage(const Image& test, const Image& reference, double& maxValue);
 
+// How converged a render is, from its per-pixel variance of the mean: residualMse is the
+// mean over pixels and channels of that variance (the MSE an exact method would still show
+// against it), meanRelativeError the mean of sqrt(Var[Y]) / (|Y| + 0.01) over pixels, Y the
+// luminance. Non-finite pixels are skipped. Throws std::invalid_argument on a size mismatch.
+struct Convergence {
+  double residualMse = 0, meanRelativeError = 0;
+};
+Convergence convergenceOf(const Image& mean, const Image& varianceOfMean);
+
 // Viridis-like colour map: t in [0,1] (clamped) to an sRGB-encoded colour, dark purple to
 // yellow with monotonically increasing lightness, readable in greyscale and by colour-blind users.
 vec3 colormapViridis(float t);

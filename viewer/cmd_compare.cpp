@@ -205,9 +205,7 @@ void run(CompareFlags flags) {
     const RenderResult ref = renderImage(*refScene, options);
     writeImage(flags.referencePath, ref.image);
     reference = ref.image;
-    double residual = 0;
-    for (const vec3& v : ref.varianceOfMean.pixels) residual += (double(v.x) + v.y + v.z) / 3.0;
-    residual /= double(std::max<size_t>(1, ref.varianceOfMean.pixels.size()));
+    const double residual = convergenceOf(ref.image, ref.varianceOfMean).residualMse;
     char note[160];
     std::snprintf(note, sizeof note, "rendered by compare at %d spp; its residual MSE %.3g",
                   flags.referenceSpp, residual);

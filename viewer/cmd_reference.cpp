@@ -4,6 +4,7 @@
 // they want to measure.
 #include "engine/image_io.h"
 #include "engine/integrator.h"
+#include "engine/metrics.h"
 #include "engine/render.h"
 #include "viewer/commands.h"
 #include "viewer/progress.h"
@@ -11,7 +12,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -64,23 +64,7 @@ void run(ReferenceFlags flags) {
   const RenderResult r = renderImage(*prepared, options);
   bar.finish();
 
-  // How converged: the mean over pixels of the relative standard error of the mean
-  // (luminance), and the MSE a perfect method would still show against this reference.
-  double relError = 0, noiseMse = 0;
-  size_t counted = 0;
-  for (size_t p = 0; p < r.image.pixels.size(); ++p) {
-    const vec3 v = r.varianceOfMean.pixels[p];
-    const double mean = luminance(r.image.pixels[p]);
-    const double var = luminance(v);
-    if (!std::isfinite(var) || !std::isfinite(mean)) continue;
-    relError += std::sqrt(std::max(0.0, var)) / (std::abs(mean) + 1e-2);
-    noiseMse += (double(v.x) + v.y + v.z) / 3.0;
-    ++counted;
-  }
-  if (counted) {
-    relError /= double(counted);
-    noiseMse /= double(counted);
-  }
+  const Convergence converged = convergenceOf(r.image, r.varianceOfMean);
   writeImage(flags.output, r.image);
   writeImage(flags.variancePath, r.varianceOfMean);
   nlohmann::json j;
@@ -95,14 +79,14 @@ void run(ReferenceFlags flags) {
   j["time_seconds"] = r.seconds;
   j["rays"] = r.rays;
   j["nan_samples"] = r.nonFiniteSamples;
-  j["mean_relative_standard_error"] = relError;
-  j["residual_mse"] = noiseMse;
+  j["mean_relative_standard_error"] = converged.meanRelativeError;
+  j["residual_mse"] = converged.residualMse;
   writeJson(flags.statsPath, j);
   if (!flags.quiet)
     std::printf("%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
                 "error %.3g)\n",
                 flags.output.c_str(), s.settings.width, s.settings.height, flags.spp, r.seconds,
-                flags.variancePath.c_str(), noiseMse, relError);
+                flags.variancePath.c_str(), converged.residualMse, converged.meanRelativeError);
   if (r.nonFiniteSamples > 0)
     std::fprintf(stderr, "penumbra reference: warning: %llu NaN or infinite samples were dropped\n",
                  static_cast<unsigned long long>(r.nonFiniteSamples));
