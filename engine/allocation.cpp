@@ -39,9 +39,12 @@ std::string AllocationConfig::validate() const {
 
 const char* toString(AdaptiveCriterion criterion) {
   switch (criterion) {
-    case AdaptiveCriterion::FDivergence: return "fdiv";
-    case AdaptiveCriterion::Fuzzy: return "fuzzy";
-    case AdaptiveCriterion::Cycles: return "cycles";
+    case AdaptiveCriterion::FDivergence:
+      return "fdiv";
+    case AdaptiveCriterion::Fuzzy:
+      return "fuzzy";
+    case AdaptiveCriterion::Cycles:
+      return "cycles";
   }
   return "?";
 }
@@ -208,42 +211,43 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
 void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
   // Group by landing pixel; within a pixel the indices stay in increasing order.
-  std::stable_sort(plan.begin(), plan.end(),
-                   [](const PlannedSample& a, const PlannedSample& b) { return a.pixel < b.pixel; });
+  std::stable_sort(plan.begin(), plan.end(), [](const PlannedSample& a, const PlannedSample& b) {
+    return a.pixel < b.pixel;
+  });
   std::vector<size_t> groups;
   for (size_t i = 0; i < plan.size(); ++i)
     if (i == 0 || plan[i].pixel != plan[i - 1].pixel) groups.push_back(i);
   groups.push_back(plan.size());
   const uint32_t setSize = config_.openEnded ? 64u : uint32_t(std::max(1, config_.spp));
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, groups.size() - 1, kPixelGrain / 4),
-      [&](const tbb::blocked_range<size_t>& range) {
-        if (cancel && cancel->load(std::memory_order_relaxed)) return;
-        enableFlushToZero();
-        PixelSampler sampler(config_.sampler, config_.seed, setSize);
-        PathCounters counters;
-        uint64_t nonFinite = 0;
-        for (size_t g = range.begin(); g < range.end(); ++g) {
-          const uint32_t p = plan[groups[g]].pixel;
-          const int px = int(p % width_), py = int(p / width_);
-          selected_[p] = 1;
-          for (size_t i = groups[g]; i < groups[g + 1]; ++i) {
-            sampler.startSample(px, py, plan[i].index);
-            const vec3 L = traceRadiance(
-                prepared_, sampler.cameraSample(prepared_.usesLens, prepared_.usesTime), sampler,
-                counters);
-            ++addedLastRound_[p];
-            if (!isFinite(L)) {
-              ++nonFinite;
-              continue;
-            }
-            ++kept_[p];
-            addSample(p, plan[i].index, L);
-          }
-        }
-        counters_.rays += counters.rays;
-        counters_.nonFinite += nonFinite;
-      });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size() - 1, kPixelGrain / 4),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                      enableFlushToZero();
+                      PixelSampler sampler(config_.sampler, config_.seed, setSize);
+                      PathCounters counters;
+                      uint64_t nonFinite = 0;
+                      for (size_t g = range.begin(); g < range.end(); ++g) {
+                        const uint32_t p = plan[groups[g]].pixel;
+                        const int px = int(p % width_), py = int(p / width_);
+                        selected_[p] = 1;
+                        for (size_t i = groups[g]; i < groups[g + 1]; ++i) {
+                          sampler.startSample(px, py, plan[i].index);
+                          const vec3 L = traceRadiance(
+                              prepared_,
+                              sampler.cameraSample(prepared_.usesLens, prepared_.usesTime), sampler,
+                              counters);
+                          ++addedLastRound_[p];
+                          if (!isFinite(L)) {
+                            ++nonFinite;
+                            continue;
+                          }
+                          ++kept_[p];
+                          addSample(p, plan[i].index, L);
+                        }
+                      }
+                      counters_.rays += counters.rays;
+                      counters_.nonFinite += nonFinite;
+                    });
   times_.trace += secondsSince(start);
 }
 
@@ -374,7 +378,9 @@ class CriterionMethod final : public AllocationMethod {
         }
         break;
       }
-      case AdaptiveCriterion::FDivergence: lum_[p].add(y); break;
+      case AdaptiveCriterion::FDivergence:
+        lum_[p].add(y);
+        break;
     }
   }
 
@@ -387,8 +393,8 @@ class CriterionMethod final : public AllocationMethod {
           break;
         case AdaptiveCriterion::Fuzzy:
           if (lum_[p].n > 0)
-            s = adaptive::fuzzyScore(values_[p], minimum_[p], maximum_[p],
-                                     lum_[p].sum / lum_[p].n, lum_[p].n);
+            s = adaptive::fuzzyScore(values_[p], minimum_[p], maximum_[p], lum_[p].sum / lum_[p].n,
+                                     lum_[p].n);
           break;
         case AdaptiveCriterion::Cycles: {
           const uint32_t n = halfCount_[p];
@@ -424,9 +430,12 @@ class CriterionMethod final : public AllocationMethod {
 
   std::string scoreName() const override {
     switch (criterion_.criterion) {
-      case AdaptiveCriterion::FDivergence: return "f-divergence score";
-      case AdaptiveCriterion::Fuzzy: return "fuzzy uncertainty";
-      case AdaptiveCriterion::Cycles: return "half-buffer error";
+      case AdaptiveCriterion::FDivergence:
+        return "f-divergence score";
+      case AdaptiveCriterion::Fuzzy:
+        return "fuzzy uncertainty";
+      case AdaptiveCriterion::Cycles:
+        return "half-buffer error";
     }
     return "score";
   }

@@ -28,13 +28,13 @@ namespace penumbra {
 
 struct AllocationConfig {
   uint64_t seed = 0;
-  int spp = 16;         // batch mode: samples per pixel on average
-  int initialSpp = 0;   // N0; 0 = min(4, spp)
-  int rounds = 8;       // adaptive rounds of the batch schedule
-  int batch = 0;        // samples a chosen pixel gets per round; 0 = spp (8 open-ended)
+  int spp = 16;        // batch mode: samples per pixel on average
+  int initialSpp = 0;  // N0; 0 = min(4, spp)
+  int rounds = 8;      // adaptive rounds of the batch schedule
+  int batch = 0;       // samples a chosen pixel gets per round; 0 = spp (8 open-ended)
   bool openEnded = false;
-  int roundSpp = 1;     // open-ended: samples per pixel per round, on average
-  int maxSpp = 0;       // open-ended: stop at this average spp (0 = never)
+  int roundSpp = 1;  // open-ended: samples per pixel per round, on average
+  int maxSpp = 0;    // open-ended: stop at this average spp (0 = never)
   SamplerKind sampler = SamplerKind::LowDiscrepancy;
 
   int effectiveInitialSpp() const;
@@ -105,8 +105,7 @@ struct PlannedSample {
 
 class AllocationMethod : public ProgressiveMethod {
  public:
-  AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config,
-                   std::string name);
+  AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config, std::string name);
 
   void runRound(const std::atomic<bool>* cancel) override;
   bool done() const override;
@@ -149,7 +148,7 @@ class AllocationMethod : public ProgressiveMethod {
   std::vector<uint32_t> drawn_;  // samples drawn per pixel (the next sequence index)
   std::vector<uint32_t> kept_;   // finite samples per pixel
   std::vector<uint8_t> selected_;
-  std::vector<int32_t> rank_;    // last round's place in the ranking, -1: not chosen
+  std::vector<int32_t> rank_;  // last round's place in the ranking, -1: not chosen
   std::vector<uint32_t> addedLastRound_;
   size_t rankedLastRound_ = 0;
   uint64_t drawnTotal_ = 0;

@@ -28,9 +28,7 @@ const std::vector<float>& finalScales() {
   return s;
 }
 
-double cGamma(double gamma) {
-  return -std::log(1.0 - std::pow(1.9 * gamma, 1.0 / std::sqrt(2.0)));
-}
+double cGamma(double gamma) { return -std::log(1.0 - std::pow(1.9 * gamma, 1.0 / std::sqrt(2.0))); }
 
 namespace {
 
@@ -107,9 +105,10 @@ ScaleSelection selectScales(const PixelStatistics& stats, std::span<const float>
     gaussianFilter(floats(stats.mean), floats(coarseI), w, h, 3, sigma, false);
     gaussianFilter(floats(stats.variance), floats(coarseV), w, h, 3, sigma, true);
     gaussianFilter(stats.count, coarseN, w, h, 1, sigma, false);
-    const double beta = fineSigma == 0 ? 1.0
-                                       : (double(sigma) * sigma + double(fineSigma) * fineSigma) /
-                                             (double(sigma) * sigma - double(fineSigma) * fineSigma);
+    const double beta = fineSigma == 0
+                            ? 1.0
+                            : (double(sigma) * sigma + double(fineSigma) * fineSigma) /
+                                  (double(sigma) * sigma - double(fineSigma) * fineSigma);
     for (size_t p = 0; p < n; ++p) {
       const vec3 gain = fineV[p] - coarseV[p];
       const vec3 d = fineI[p] - coarseI[p];
@@ -207,11 +206,9 @@ class GemMethod final : public AllocationMethod {
 
   vec3 pixelMean(size_t p) const override { return vec3(mean_[p]); }
 
-  void finishSnapshot(Snapshot& snap, bool reconstructImage,
-                      const std::atomic<bool>*) override {
+  void finishSnapshot(Snapshot& snap, bool reconstructImage, const std::atomic<bool>*) override {
     if (!reconstructImage) return;
-    const gem::ScaleSelection s =
-        gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
+    const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
     snap.reconstructed = Image(width_, height_);
     snap.reconstructed.pixels = s.estimate;
     snap.alphaIndex = s.scale;
@@ -240,8 +237,7 @@ class GemMethod final : public AllocationMethod {
     for (size_t p = 0; p < pixelCount_; ++p) {
       st.mean[p] = vec3(mean_[p]);
       st.count[p] = float(n_[p]);
-      st.variance[p] =
-          n_[p] > 1 ? vec3(m2_[p] / (double(n_[p] - 1) * double(n_[p]))) : vec3(0.0f);
+      st.variance[p] = n_[p] > 1 ? vec3(m2_[p] / (double(n_[p] - 1) * double(n_[p]))) : vec3(0.0f);
     }
     return st;
   }

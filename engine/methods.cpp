@@ -67,16 +67,17 @@ std::string validate(const MethodSpec& s) {
       if (!s.openEnded && s.spp < 1) return "spp must be at least 1";
       if (s.openEnded && s.roundSpp < 1) return "round spp must be at least 1";
       return {};
-    case MethodKind::Bp: return bpOf(s).validate();
+    case MethodKind::Bp:
+      return bpOf(s).validate();
     case MethodKind::Gem:
       if (!(s.gamma > 0.0f && s.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
       return allocationOf(s).validate();
-    default: return allocationOf(s).validate();
+    default:
+      return allocationOf(s).validate();
   }
 }
 
-std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared,
-                                              const MethodSpec& s) {
+std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared, const MethodSpec& s) {
   if (const std::string error = validate(s); !error.empty()) throw std::invalid_argument(error);
   switch (s.kind) {
     case MethodKind::Ld: {
@@ -89,7 +90,8 @@ std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared,
       c.sampler = s.sampler;
       return makeLdMethod(prepared, c);
     }
-    case MethodKind::Bp: return makeBpMethod(prepared, bpOf(s));
+    case MethodKind::Bp:
+      return makeBpMethod(prepared, bpOf(s));
     case MethodKind::Gem: {
       GemConfig c;
       static_cast<AllocationConfig&>(c) = allocationOf(s);

@@ -62,8 +62,11 @@ std::vector<SnapshotMap> snapshotMaps(const Snapshot& snap, const std::vector<fl
     if (values.size() == n) maps.push_back({name, std::move(values), std::move(legend)});
   };
   map("bias", snap.bias,
-      {snap.biasLabel, MapStyle::Continuous, 0.0f,
-       snap.biasRange > 0 ? snap.biasRange : percentileOf(snap.bias, 0.99f), {}});
+      {snap.biasLabel,
+       MapStyle::Continuous,
+       0.0f,
+       snap.biasRange > 0 ? snap.biasRange : percentileOf(snap.bias, 0.99f),
+       {}});
   map("network_error", snap.networkError,
       {"er", MapStyle::Continuous, 0.0f, std::max(1e-3f, maxOf(snap.networkError)), {}});
   map("selected", asFloats(snap.selected),

@@ -83,10 +83,11 @@ void run(ReferenceFlags flags) {
   j["residual_mse"] = converged.residualMse;
   writeJson(flags.statsPath, j);
   if (!flags.quiet)
-    std::printf("%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
-                "error %.3g)\n",
-                flags.output.c_str(), s.settings.width, s.settings.height, flags.spp, r.seconds,
-                flags.variancePath.c_str(), converged.residualMse, converged.meanRelativeError);
+    std::printf(
+        "%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
+        "error %.3g)\n",
+        flags.output.c_str(), s.settings.width, s.settings.height, flags.spp, r.seconds,
+        flags.variancePath.c_str(), converged.residualMse, converged.meanRelativeError);
   if (r.nonFiniteSamples > 0)
     std::fprintf(stderr, "penumbra reference: warning: %llu NaN or infinite samples were dropped\n",
                  static_cast<unsigned long long>(r.nonFiniteSamples));

@@ -1,7 +1,7 @@
 // `penumbra render`: renders a scene to an image file, with optional statistics.
-#include "engine/methods.h"
 #include "engine/image_io.h"
 #include "engine/integrator.h"
+#include "engine/methods.h"
 #include "engine/render.h"
 #include "engine/snapshot_io.h"
 #include "viewer/commands.h"
@@ -219,8 +219,8 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
       if (spec.kind == MethodKind::Bp) {
         size_t difficult = 0;
         for (size_t p = 0; p < snap->bias.size(); ++p)
-          difficult += snap->bias[p] > spec.bp.psi &&
-                       snap->networkError[p] > spec.bp.network.errorThreshold;
+          difficult +=
+              snap->bias[p] > spec.bp.psi && snap->networkError[p] > spec.bp.network.errorThreshold;
         round["difficult_pixels"] = difficult;
       }
       rounds.push_back(round);

@@ -1,6 +1,7 @@
 // Command-line options that choose and configure the rendering method (--method, every
 // parameter of the BP method: the paper's Table 1 and the ablation switches of
-// ALGORITHM.md §12, and the baselines' schedule and criteria of §10), shared by `render` and the commands that will run methods too.
+// ALGORITHM.md §12, and the baselines' schedule and criteria of §10), shared by `render` and the
+// commands that will run methods too.
 #pragma once
 
 #include "engine/methods.h"

@@ -5,8 +5,8 @@
 // headless backends drive the same object, so a screenshot shows what a person sees.
 #pragma once
 
-#include "engine/methods.h"
 #include "engine/integrator.h"
+#include "engine/methods.h"
 #include "engine/overlays.h"
 #include "engine/session.h"
 

@@ -25,7 +25,8 @@ bool methodParameters(ViewOptions& o) {
   int method = int(std::find(names.begin(), names.end(), o.method) - names.begin());
   if (ImGui::BeginCombo("method", o.method.c_str())) {
     for (int i = 0; i < int(names.size()); ++i) {
-      const std::string label = names[size_t(i)] + " - " + describe(*parseMethodKind(names[size_t(i)]));
+      const std::string label =
+          names[size_t(i)] + " - " + describe(*parseMethodKind(names[size_t(i)]));
       if (ImGui::Selectable(label.c_str(), i == method)) {
         o.method = names[size_t(i)];
         changed = true;
@@ -338,9 +339,8 @@ void drawInspector(ViewerApp& app) {
       ImGui::Text("rank %d; the last round sampled the top %zu", in->rank + 1, in->rankedPixels);
     if (snap && !snap->alphaIndex.empty() && !snap->filterScaleLabels.empty()) {
       const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
-      ImGui::Text("filter scale %s", a < snap->filterScaleLabels.size()
-                                         ? snap->filterScaleLabels[a].c_str()
-                                         : "?");
+      ImGui::Text("filter scale %s",
+                  a < snap->filterScaleLabels.size() ? snap->filterScaleLabels[a].c_str() : "?");
     }
   }
   if (in->samples.empty() && in->candidates.empty()) {  // the baselines store no samples

@@ -75,14 +75,14 @@ TEST(AdaptiveMeasures, FuzzyEntropy) {
   EXPECT_EQ(adaptive::fuzzyScore(flat, 0.4, 0.4, 0.4, 3), 0.0);
   // A dimmer pixel with the same shape scores lower.
   const std::vector<float> dim{0.0f, 0.05f, 0.1f};
-  EXPECT_LT(adaptive::fuzzyScore(dim, 0.0, 0.1, 0.05, 3), adaptive::fuzzyScore(three, 0.0, 1.0, 0.5, 3));
+  EXPECT_LT(adaptive::fuzzyScore(dim, 0.0, 0.1, 0.05, 3),
+            adaptive::fuzzyScore(three, 0.0, 1.0, 0.5, 3));
 }
 
 TEST(AdaptiveMeasures, CyclesError) {
   EXPECT_EQ(adaptive::cyclesError(vec3(0.5f), vec3(0.5f)), 0.0);
   // Sum of I = 3 >= 1: divide by it. |diff| = 0.3.
-  EXPECT_NEAR(adaptive::cyclesError(vec3(1.0f), vec3(1.1f, 1.0f, 0.8f)), 0.3 / (1e-4 + 3.0),
-              1e-6);
+  EXPECT_NEAR(adaptive::cyclesError(vec3(1.0f), vec3(1.1f, 1.0f, 0.8f)), 0.3 / (1e-4 + 3.0), 1e-6);
   // Sum of I = 0.25 < 1: divide by its square root.
   EXPECT_NEAR(adaptive::cyclesError(vec3(0.25f, 0.0f, 0.0f), vec3(0.35f, 0.0f, 0.0f)),
               0.1 / (1e-4 + 0.5), 1e-6);
