@@ -222,10 +222,8 @@ void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size() - 1, kPixelGrain / 4),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                      enableFlushToZero();
-                      PixelSampler sampler(config_.sampler, config_.seed, setSize);
-                      PathCounters counters;
-                      uint64_t nonFinite = 0;
+                      TraceChunk chunk(counters_, config_.sampler, config_.seed, setSize);
+                      PixelSampler& sampler = chunk.sampler;
                       for (size_t g = range.begin(); g < range.end(); ++g) {
                         const uint32_t p = plan[groups[g]].pixel;
                         const int px = int(p % width_), py = int(p / width_);
@@ -235,18 +233,16 @@ void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic
                           const vec3 L = traceRadiance(
                               prepared_,
                               sampler.cameraSample(prepared_.usesLens, prepared_.usesTime), sampler,
-                              counters);
+                              chunk.counters);
                           ++addedLastRound_[p];
                           if (!isFinite(L)) {
-                            ++nonFinite;
+                            ++chunk.nonFinite;
                             continue;
                           }
                           ++kept_[p];
                           addSample(p, plan[i].index, L);
                         }
                       }
-                      counters_.rays += counters.rays;
-                      counters_.nonFinite += nonFinite;
                     });
   times_.trace += secondsSince(start);
 }

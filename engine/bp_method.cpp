@@ -297,10 +297,8 @@ class BpMethod final : public ProgressiveMethod {
         tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
         [&](const tbb::blocked_range<size_t>& range) {
           if (cancel && cancel->load(std::memory_order_relaxed)) return;
-          enableFlushToZero();
-          PixelSampler sampler(config_.sampler, config_.seed, uint32_t(coarseSpp_));
-          PathCounters counters;
-          uint64_t nonFinite = 0;
+          TraceChunk chunk(counters_, config_.sampler, config_.seed, uint32_t(coarseSpp_));
+          PixelSampler& sampler = chunk.sampler;
           for (size_t p = range.begin(); p < range.end(); ++p) {
             // Here rather than in the constructor: in parallel, and a
             // restart can cancel it.
@@ -310,16 +308,14 @@ class BpMethod final : public ProgressiveMethod {
             for (int i = 0; i < coarseSpp_; ++i) {
               sampler.startSample(px, py, uint32_t(i));
               const CameraSample cs = sampler.cameraSample(prepared_.usesLens, prepared_.usesTime);
-              const vec3 L = traceRadiance(prepared_, cs, sampler, counters);
+              const vec3 L = traceRadiance(prepared_, cs, sampler, chunk.counters);
               if (isFinite(L))
                 traced[p].push_back({cs, L});
               else
-                ++nonFinite;
+                ++chunk.nonFinite;
             }
             pixels_[p].traced = pixels_[p].drawn = uint32_t(coarseSpp_);
           }
-          counters_.rays += counters.rays;
-          counters_.nonFinite += nonFinite;
         });
     if (cancel && cancel->load()) return;
     Image coarse(width_, height_);

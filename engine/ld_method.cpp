@@ -40,10 +40,8 @@ class LdMethod final : public ProgressiveMethod {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
                       [&](const tbb::blocked_range<size_t>& range) {
                         if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                        enableFlushToZero();
-                        PixelSampler sampler(config_.sampler, config_.seed, setSize);
-                        PathCounters counters;
-                        uint64_t nonFinite = 0;
+                        TraceChunk chunk(counters_, config_.sampler, config_.seed, setSize);
+                        PixelSampler& sampler = chunk.sampler;
                         for (size_t p = range.begin(); p < range.end(); ++p) {
                           const int px = int(p % width_), py = int(p / width_);
                           for (uint32_t i = first; i < last; ++i) {
@@ -51,9 +49,9 @@ class LdMethod final : public ProgressiveMethod {
                             const vec3 L = traceRadiance(
                                 prepared_,
                                 sampler.cameraSample(prepared_.usesLens, prepared_.usesTime),
-                                sampler, counters);
+                                sampler, chunk.counters);
                             if (!isFinite(L)) {
-                              ++nonFinite;
+                              ++chunk.nonFinite;
                               continue;
                             }
                             // Welford's running mean, in sample order, as renderImage does.
@@ -61,8 +59,6 @@ class LdMethod final : public ProgressiveMethod {
                             mean_[p] += (glm::dvec3(L) - mean_[p]) / double(count_[p]);
                           }
                         }
-                        counters_.rays += counters.rays;
-                        counters_.nonFinite += nonFinite;
                       });
     if (cancel && cancel->load()) return;
     lastAdded_ = last - drawn_;

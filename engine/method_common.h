@@ -1,9 +1,12 @@
-// Small pieces the progressive methods (bp_method.cpp, ld_method.cpp) share: wall-clock
-// timing, the finiteness test for samples, the grain of their pixel loops and their ray
+// Small pieces the progressive methods (bp_method.cpp, ld_method.cpp, allocation.cpp) share:
+// wall-clock timing, the finiteness test for samples, the grain of their pixel loops and their ray
 // counters. Internal to engine/.
 #pragma once
 
+#include "engine/accel.h"
 #include "engine/image.h"
+#include "engine/integrator.h"
+#include "engine/sampler.h"
 
 #include <atomic>
 #include <chrono>
@@ -28,6 +31,27 @@ constexpr size_t kPixelGrain = 64;
 // Counted by the worker threads of a round.
 struct Counters {
   std::atomic<uint64_t> rays{0}, nonFinite{0}, rejected{0};
+};
+
+// What one chunk of a parallel tracing loop holds: flush-to-zero set on its thread, its own
+// sampler and its counts, which are added to the method's totals when the chunk ends.
+class TraceChunk {
+ public:
+  TraceChunk(Counters& totals, SamplerKind kind, uint64_t seed, uint32_t setSize)
+      : sampler((enableFlushToZero(), kind), seed, setSize), totals_(totals) {}
+  ~TraceChunk() {
+    totals_.rays += counters.rays;
+    totals_.nonFinite += nonFinite;
+  }
+  TraceChunk(const TraceChunk&) = delete;
+  TraceChunk& operator=(const TraceChunk&) = delete;
+
+  PixelSampler sampler;
+  PathCounters counters;
+  uint64_t nonFinite = 0;
+
+ private:
+  Counters& totals_;
 };
 
 }  // namespace penumbra::method
