@@ -286,14 +286,9 @@ std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
 }
 
 PixelInspection AllocationMethod::inspect(int x, int y) const {
-  PixelInspection in;
-  if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
+  PixelInspection in = startInspection(x, y, width_, height_, rounds_, name_);
+  if (!in.valid) return in;
   const size_t p = size_t(y) * width_ + x;
-  in.valid = true;
-  in.x = x;
-  in.y = y;
-  in.round = rounds_;
-  in.method = name_;
   in.estimate = pixelMean(p);
   in.bias = scores_[p];
   in.kept = kept_[p];

@@ -174,15 +174,10 @@ class BpMethod final : public ProgressiveMethod {
   }
 
   PixelInspection inspect(int x, int y) const override {
-    PixelInspection in;
-    if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
+    PixelInspection in = startInspection(x, y, width_, height_, rounds_, "bp");
+    if (!in.valid) return in;
     const size_t p = size_t(y) * width_ + x;
     const PixelState& s = pixels_[p];
-    in.valid = true;
-    in.x = x;
-    in.y = y;
-    in.round = rounds_;
-    in.method = "bp";
     in.estimate = pixelEstimate(p);
     in.meanMapped = s.kept ? vec3(s.sumT / double(s.kept)) : vec3(0.0f);
     in.prediction = s.prediction;

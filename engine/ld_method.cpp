@@ -77,14 +77,9 @@ class LdMethod final : public ProgressiveMethod {
   }
 
   PixelInspection inspect(int x, int y) const override {
-    PixelInspection in;
-    if (x < 0 || y < 0 || x >= width_ || y >= height_ || rounds_ == 0) return in;
+    PixelInspection in = startInspection(x, y, width_, height_, rounds_, "ld");
+    if (!in.valid) return in;
     const size_t p = size_t(y) * width_ + x;
-    in.valid = true;
-    in.x = x;
-    in.y = y;
-    in.round = rounds_;
-    in.method = "ld";
     in.estimate = vec3(mean_[p]);
     in.kept = count_[p];
     in.traced = drawn_;

@@ -6,6 +6,7 @@
 #include "engine/accel.h"
 #include "engine/image.h"
 #include "engine/integrator.h"
+#include "engine/progressive.h"
 #include "engine/sampler.h"
 
 #include <atomic>
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace penumbra::method {
 
@@ -32,6 +34,20 @@ constexpr size_t kPixelGrain = 64;
 struct Counters {
   std::atomic<uint64_t> rays{0}, nonFinite{0}, rejected{0};
 };
+
+// The start of every method's inspect(): valid with the pixel, round and method set, or
+// invalid (nothing else set) outside the image or before the first round.
+inline PixelInspection startInspection(int x, int y, int width, int height, int rounds,
+                                       const std::string& method) {
+  PixelInspection in;
+  if (x < 0 || y < 0 || x >= width || y >= height || rounds == 0) return in;
+  in.valid = true;
+  in.x = x;
+  in.y = y;
+  in.round = rounds;
+  in.method = method;
+  return in;
+}
 
 // What one chunk of a parallel tracing loop holds: flush-to-zero set on its thread, its own
 // sampler and its counts, which are added to the method's totals when the chunk ends.
