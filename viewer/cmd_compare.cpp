@@ -183,8 +183,9 @@ void run(CompareFlags flags) {
                        flags.scene.scenePath + " --spp 8192 -o " + flags.referencePath +
                        "`, or leave --reference out to have compare render one)");
   if (flags.spp > 0) flags.scene.spp = flags.spp;
-  Scene scene = loadSceneWithOptions(flags.scene);
-  const int spp = scene.settings.spp;
+  auto prepared = prepareScene(loadSceneWithOptions(flags.scene));
+  const RenderSettings& settings = prepared->scene.settings;
+  const int spp = settings.spp;
   const std::vector<Entry> entries = parseEntries(flags.methods, spp);
   std::string referenceNote;
   Image reference;
@@ -193,7 +194,6 @@ void run(CompareFlags flags) {
     // so the next comparison can reuse it.
     std::filesystem::create_directories(flags.outDir);
     flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
-    auto refScene = prepareScene(scene);
     RenderOptions options;
     options.spp = flags.referenceSpp;
     options.seed = 999;
@@ -202,7 +202,7 @@ void run(CompareFlags flags) {
       std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
                   flags.referenceSpp);
     std::fflush(stdout);
-    const RenderResult ref = renderImage(*refScene, options);
+    const RenderResult ref = renderImage(*prepared, options);
     writeImage(flags.referencePath, ref.image);
     reference = ref.image;
     const double residual = convergenceOf(ref.image, ref.varianceOfMean).residualMse;
@@ -217,12 +217,11 @@ void run(CompareFlags flags) {
       throw CommandError(std::string("--reference ") + e.what());
     }
   }
-  if (reference.width != scene.settings.width || reference.height != scene.settings.height)
+  if (reference.width != settings.width || reference.height != settings.height)
     throw CommandError("--reference " + flags.referencePath + " is " +
                        std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                       " but the render is " + std::to_string(scene.settings.width) + "x" +
-                       std::to_string(scene.settings.height) + " (give --size)");
-  auto prepared = prepareScene(std::move(scene));
+                       " but the render is " + std::to_string(settings.width) + "x" +
+                       std::to_string(settings.height) + " (give --size)");
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   std::unique_ptr<tbb::global_control> limit;
