@@ -10,8 +10,8 @@
 // neighbour lowers the ratio rather than flattering it.
 //
 // Usage: penumbra_bench_bp [scene.json] [--spp N] [--size S] [--threads T] [--nit N]
-#include "engine/bp_method.h"
-#include "engine/scene_loader.h"
+#include "methods/bp/method.h"
+#include "scene/scene_loader.h"
 
 #include <tbb/global_control.h>
 

@@ -9,10 +9,10 @@
 // so a noisy neighbour on the machine hurts both sides alike.
 //
 // Usage: penumbra_bench_trace [scene.json] [--spp N] [--size WxH] [--repeats R]
-#include "engine/accel.h"
-#include "engine/integrator.h"
-#include "engine/render.h"
-#include "engine/scene_loader.h"
+#include "methods/render.h"
+#include "scene/scene_loader.h"
+#include "trace/accel.h"
+#include "trace/integrator.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>

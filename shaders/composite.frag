@@ -1,7 +1,7 @@
 #version 330 core
 // The viewer's picture at image resolution, redrawn only when the image or a display
 // setting changes: exposure, tone curve and sRGB encoding of the linear render, then the
-// overlay blended in display space. engine/overlays.cpp (displayTransform, composePixel) is
+// overlay blended in display space. engine/present/overlays.cpp (displayTransform, composePixel) is
 // the CPU reference of these formulas; view.frag then shows the result zoomed and panned.
 
 uniform sampler2D image;    // linear RGB, one texel per pixel

@@ -1,6 +1,6 @@
 #include "tests/test_paths.h"
 
-#include "engine/scene_loader.h"
+#include "scene/scene_loader.h"
 
 #include <filesystem>
 

@@ -2,7 +2,7 @@
 // scenes at a test size.
 #pragma once
 
-#include "engine/integrator.h"
+#include "trace/integrator.h"
 
 #include <memory>
 #include <string>

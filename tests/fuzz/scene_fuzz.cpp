@@ -1,6 +1,6 @@
 // libFuzzer target for the JSON scene parser: any input must either load or raise a
 // SceneError; a crash, hang, leak or sanitizer report is a bug.
-#include "engine/scene_loader.h"
+#include "scene/scene_loader.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -8,11 +8,11 @@
 // written to the test output folder. PENUMBRA_UPDATE_GOLDENS=1 rewrites the goldens.
 // The network kernel is pinned to SSE (PENUMBRA_NET_SIMD, set by CTest) so that the
 // renders, hence the goldens, are the same on every x86-64 CPU.
-#include "viewer/headless.h"
-#include "engine/image_io.h"
-#include "engine/overlays.h"
-#include "engine/render.h"
-#include "engine/scene_loader.h"
+#include "viewer/app/headless.h"
+#include "core/image_io.h"
+#include "methods/render.h"
+#include "present/overlays.h"
+#include "scene/scene_loader.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,6 @@
 // The window's scripted input: parsing with errors that name file and line, and the order
 // and timing in which commands reach the host.
-#include "viewer/view_script.h"
-
-#include "viewer/commands.h"
+#include "viewer/app/view_script.h"
 
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
@@ -87,7 +85,7 @@ TEST(ViewScript, ErrorsNameTheFileAndLine) {
   auto message = [](const std::string& text) {
     try {
       InputScript::parse(text, "input.txt");
-    } catch (const CommandError& e) {
+    } catch (const ScriptError& e) {
       return std::string(e.what());
     }
     return std::string("no error");
@@ -97,7 +95,7 @@ TEST(ViewScript, ErrorsNameTheFileAndLine) {
   EXPECT_EQ(message("wait soon"), "input.txt:1: wait: 'soon' is not a number");
   EXPECT_EQ(message("resize -1 4"), "input.txt:1: resize: sizes must be >= 0");
   EXPECT_EQ(message("drag sideways 1 2 3 4"), "input.txt:1: drag: expected left, right or middle");
-  EXPECT_THROW(InputScript::load("/nonexistent/script.txt"), CommandError);
+  EXPECT_THROW(InputScript::load("/nonexistent/script.txt"), ScriptError);
 }
 
 }  // namespace

@@ -1,0 +1,43 @@
+// Images: a plain RGB float buffer (linear radiance) plus the small helpers every
+// part of the engine shares (luminance, sRGB transfer, tone mapping for display).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+using glm::vec3;
+
+// Row-major, top row first, linear RGB.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<vec3> pixels;
+
+  Image() = default;
+  Image(int w, int h, vec3 fill = vec3(0.0f)) : width(w), height(h), pixels(size_t(w) * h, fill) {}
+  vec3& at(int x, int y) { return pixels[size_t(y) * width + x]; }
+  const vec3& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+  bool empty() const { return pixels.empty(); }
+};
+
+// True when every channel is a finite number (no NaN, no infinity).
+inline bool isFinite(vec3 c) {
+  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
+}
+
+// Rec. 709 luminance of linear RGB.
+inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+float linearToSrgb(float v);
+float srgbToLinear(float v);
+
+// Display transform used for PNG output: exposure (stops), clamp, sRGB encode, 8 bits.
+std::vector<uint8_t> toSrgb8(const Image& image, float exposureStops = 0.0f);
+
+}  // namespace penumbra

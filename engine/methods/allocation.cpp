@@ -1,0 +1,469 @@
+#include "methods/allocation.h"
+
+#include "core/rng.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numeric>
+#include <stdexcept>
+
+namespace penumbra {
+
+using namespace method;
+
+int AllocationConfig::effectiveInitialSpp() const {
+  if (initialSpp > 0) return initialSpp;
+  return openEnded ? 4 : std::min(4, spp);
+}
+
+int AllocationConfig::effectiveBatch() const {
+  if (batch > 0) return batch;
+  return openEnded ? 8 : spp;
+}
+
+std::string AllocationConfig::validate() const {
+  if (!openEnded && spp < 1) return "spp must be at least 1";
+  if (initialSpp < 0) return "the initial spp must not be negative";
+  if (!openEnded && initialSpp > spp) return "the initial spp must not exceed spp";
+  if (rounds < 1) return "rounds must be at least 1";
+  if (batch < 0) return "the batch must not be negative";
+  if (openEnded && roundSpp < 1) return "round spp must be at least 1";
+  if (maxSpp < 0) return "the maximum spp must not be negative";
+  return {};
+}
+
+const char* toString(AdaptiveCriterion criterion) {
+  switch (criterion) {
+    case AdaptiveCriterion::FDivergence:
+      return "fdiv";
+    case AdaptiveCriterion::Fuzzy:
+      return "fuzzy";
+    case AdaptiveCriterion::Cycles:
+      return "cycles";
+  }
+  return "?";
+}
+
+// ---- Error measures --------------------------------------------------------------
+
+namespace adaptive {
+
+void LuminanceSums::add(double luminance) {
+  const double l = std::max(0.0, luminance);
+  ++n;
+  sum += l;
+  sumSqrt += std::sqrt(l);
+  sumSquares += l * l;
+  if (l > 0) sumLLogL += l * std::log(l);
+}
+
+double divergence(const LuminanceSums& s, Divergence kind) {
+  if (s.n < 2 || !(s.sum > 0)) return 0.0;
+  const double n = s.n;
+  double d = 0;
+  switch (kind) {
+    case Divergence::Hellinger:
+      // 1/2 sum (sqrt p_i - sqrt(1/N))^2 = 1 - sum sqrt(L_i) / sqrt(N sum L).
+      d = 1.0 - s.sumSqrt / std::sqrt(n * s.sum);
+      break;
+    case Divergence::KullbackLeibler:
+      // sum p_i ln(N p_i) = (1/S) sum L ln L - ln S + ln N.
+      d = s.sumLLogL / s.sum - std::log(s.sum) + std::log(n);
+      break;
+    case Divergence::ChiSquare:
+      d = n * s.sumSquares / (s.sum * s.sum) - 1.0;
+      break;
+  }
+  return std::max(0.0, d);  // rounding can leave a tiny negative for equal samples
+}
+
+double fDivergenceScore(const LuminanceSums& s, Divergence kind) {
+  if (s.n == 0) return 0.0;
+  const double mean = s.sum / s.n;
+  return mean * std::sqrt(divergence(s, kind)) / s.n;
+}
+
+double fuzzyScore(std::span<const float> values, double minimum, double maximum, double mean,
+                  uint32_t n) {
+  if (n == 0 || values.empty()) return 0.0;
+  const double range = maximum - minimum;
+  if (!(range >= 1e-4 * std::max(mean, 0.0)) || !(range > 0)) return 0.0;
+  double entropy = 0;
+  for (float v : values) {
+    const double mu = std::clamp((double(v) - minimum) / range, 0.0, 1.0);
+    if (mu > 0 && mu < 1) entropy += -mu * std::log(mu) - (1 - mu) * std::log(1 - mu);
+  }
+  entropy /= double(values.size()) * std::log(2.0);
+  const double contrast = range / (maximum + minimum + 1e-4);
+  return entropy * contrast * mean / std::sqrt(double(n));
+}
+
+double cyclesError(vec3 meanAll, vec3 meanHalf) {
+  const double sum = double(meanAll.x) + meanAll.y + meanAll.z;
+  const double norm = sum < 1.0 ? std::sqrt(std::max(0.0, sum)) : sum;
+  const double diff = std::abs(double(meanAll.x) - meanHalf.x) +
+                      std::abs(double(meanAll.y) - meanHalf.y) +
+                      std::abs(double(meanAll.z) - meanHalf.z);
+  return diff / (1e-4 + norm);
+}
+
+}  // namespace adaptive
+
+// ---- The framework -----------------------------------------------------------------
+
+AllocationMethod::AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config,
+                                   std::string name)
+    : prepared_(prepared),
+      config_(config),
+      name_(std::move(name)),
+      width_(prepared.scene.settings.width),
+      height_(prepared.scene.settings.height),
+      pixelCount_(size_t(width_) * height_),
+      scores_(pixelCount_, 0.0f),
+      drawn_(pixelCount_, 0),
+      kept_(pixelCount_, 0),
+      selected_(pixelCount_, 0),
+      rank_(pixelCount_, -1),
+      addedLastRound_(pixelCount_, 0) {
+  if (const std::string error = config.validate(); !error.empty())
+    throw std::invalid_argument(error);
+  start_ = Clock::now();
+}
+
+bool AllocationMethod::done() const {
+  if (config_.openEnded)
+    return config_.maxSpp > 0 && drawnTotal_ >= uint64_t(config_.maxSpp) * pixelCount_;
+  return drawnTotal_ >= uint64_t(config_.spp) * pixelCount_;
+}
+
+uint64_t AllocationMethod::roundBudget() const {
+  if (config_.openEnded) {
+    uint64_t budget = uint64_t(config_.roundSpp) * pixelCount_;
+    if (config_.maxSpp > 0)
+      budget = std::min(budget, uint64_t(config_.maxSpp) * pixelCount_ - drawnTotal_);
+    return budget;
+  }
+  const uint64_t remaining = uint64_t(config_.spp) * pixelCount_ - drawnTotal_;
+  const int roundsLeft = std::max(1, config_.rounds - (rounds_ - 1));
+  return (remaining + roundsLeft - 1) / roundsLeft;
+}
+
+void AllocationMethod::placeSamples(uint32_t pixel, int count, std::vector<uint32_t>& landing) {
+  landing.assign(size_t(count), pixel);
+}
+
+void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
+  if (done()) return;
+  auto start = Clock::now();
+  std::vector<PlannedSample> plan;
+  std::fill(selected_.begin(), selected_.end(), 0);
+  std::fill(addedLastRound_.begin(), addedLastRound_.end(), 0);
+  std::fill(rank_.begin(), rank_.end(), -1);
+  rankedLastRound_ = 0;
+  if (rounds_ == 0) {
+    const uint32_t n0 = uint32_t(config_.effectiveInitialSpp());
+    plan.reserve(pixelCount_ * n0);
+    for (uint32_t p = 0; p < pixelCount_; ++p)
+      for (uint32_t i = 0; i < n0; ++i) plan.push_back({p, drawn_[p]++});
+  } else {
+    // Rank by score, highest first; ties (and NaN, treated as 0) by pixel index.
+    std::vector<uint32_t> order(pixelCount_);
+    std::iota(order.begin(), order.end(), 0u);
+    auto key = [&](uint32_t p) {
+      const float s = scores_[p];
+      return std::isnan(s) ? 0.0f : s;
+    };
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      const float ka = key(a), kb = key(b);
+      return ka != kb ? ka > kb : a < b;
+    });
+    for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
+    uint64_t budget = roundBudget();
+    const int batch = config_.effectiveBatch();
+    plan.reserve(budget);
+    std::vector<uint32_t> landing;
+    size_t chosen = 0;
+    while (budget > 0) {  // several passes only when the budget exceeds one batch each
+      const uint32_t p = order[chosen % order.size()];
+      const int count = int(std::min<uint64_t>(uint64_t(batch), budget));
+      placeSamples(p, count, landing);
+      for (uint32_t l : landing) plan.push_back({l, drawn_[l]++});
+      budget -= uint64_t(count);
+      ++chosen;
+    }
+    rankedLastRound_ = std::min(chosen, order.size());
+    times_.select += secondsSince(start);
+  }
+  trace(plan, cancel);
+  if (cancel && cancel->load()) return;
+  drawnTotal_ += plan.size();
+  ++rounds_;
+  start = Clock::now();
+  computeScores(scores_);
+  times_.select += secondsSince(start);
+}
+
+void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic<bool>* cancel) {
+  const auto start = Clock::now();
+  // Group by landing pixel; within a pixel the indices stay in increasing order.
+  std::stable_sort(plan.begin(), plan.end(), [](const PlannedSample& a, const PlannedSample& b) {
+    return a.pixel < b.pixel;
+  });
+  std::vector<size_t> groups;
+  for (size_t i = 0; i < plan.size(); ++i)
+    if (i == 0 || plan[i].pixel != plan[i - 1].pixel) groups.push_back(i);
+  groups.push_back(plan.size());
+  const uint32_t setSize = config_.openEnded ? 64u : uint32_t(std::max(1, config_.spp));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size() - 1, kPixelGrain / 4),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                      TraceChunk chunk(counters_, config_.sampler, config_.seed, setSize);
+                      PixelSampler& sampler = chunk.sampler;
+                      for (size_t g = range.begin(); g < range.end(); ++g) {
+                        const uint32_t p = plan[groups[g]].pixel;
+                        const int px = int(p % width_), py = int(p / width_);
+                        selected_[p] = 1;
+                        for (size_t i = groups[g]; i < groups[g + 1]; ++i) {
+                          sampler.startSample(px, py, plan[i].index);
+                          const vec3 L = traceRadiance(
+                              prepared_,
+                              sampler.cameraSample(prepared_.usesLens, prepared_.usesTime), sampler,
+                              chunk.counters);
+                          ++addedLastRound_[p];
+                          if (!isFinite(L)) {
+                            ++chunk.nonFinite;
+                            continue;
+                          }
+                          ++kept_[p];
+                          addSample(p, plan[i].index, L);
+                        }
+                      }
+                    });
+  times_.trace += secondsSince(start);
+}
+
+size_t AllocationMethod::memoryBytes() const {
+  return statisticsBytes() + scores_.capacity() * sizeof(float) +
+         (drawn_.capacity() + kept_.capacity() + addedLastRound_.capacity()) * sizeof(uint32_t) +
+         rank_.capacity() * sizeof(int32_t) + selected_.capacity();
+}
+
+void AllocationMethod::finishSnapshot(Snapshot& snap, bool, const std::atomic<bool>*) {
+  snap.reconstructed = snap.raw;
+}
+
+std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
+                                                     const std::atomic<bool>* cancel) {
+  auto snap = std::make_shared<Snapshot>();
+  snap->method = name_;
+  snap->round = rounds_;
+  snap->final = done();
+  snap->width = width_;
+  snap->height = height_;
+  snap->raw = Image(width_, height_);
+  for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = pixelMean(p);
+  snap->bias = scores_;
+  snap->biasLabel = scoreName();
+  snap->biasRange = 0.0f;
+  snap->selected = selected_;
+  snap->keptCount = kept_;
+  snap->tracedCount = drawn_;
+  for (uint32_t k : kept_) snap->keptSamples += k;
+  snap->tracedSamples = drawnTotal_;
+  snap->rays = counters_.rays;
+  snap->nonFiniteSamples = counters_.nonFinite;
+  const auto start = Clock::now();
+  finishSnapshot(*snap, reconstructImage, cancel);
+  times_.reconstruct += secondsSince(start);
+  snap->times = times_;
+  snap->seconds = secondsSince(start_);
+  return snap;
+}
+
+PixelInspection AllocationMethod::inspect(int x, int y) const {
+  PixelInspection in = startInspection(x, y, width_, height_, rounds_, name_);
+  if (!in.valid) return in;
+  const size_t p = size_t(y) * width_ + x;
+  in.estimate = pixelMean(p);
+  in.bias = scores_[p];
+  in.kept = kept_[p];
+  in.traced = drawn_[p];
+  in.addedLastRound = addedLastRound_[p];
+  in.rank = rank_[p];
+  in.rankedPixels = rankedLastRound_;
+  char line[200];
+  if (rounds_ == 1) {
+    std::snprintf(line, sizeof line, "initial pass: %d samples in every pixel",
+                  config_.effectiveInitialSpp());
+  } else if (rank_[p] >= 0 && size_t(rank_[p]) < rankedLastRound_) {
+    std::snprintf(line, sizeof line, "%s %.3g ranked %d of %zu: among the %zu pixels sampled",
+                  scoreName().c_str(), double(scores_[p]), rank_[p] + 1, pixelCount_,
+                  rankedLastRound_);
+  } else if (addedLastRound_[p] > 0) {
+    std::snprintf(line, sizeof line, "got %u samples placed by a neighbour's filter",
+                  addedLastRound_[p]);
+  } else {
+    std::snprintf(line, sizeof line, "%s %.3g ranked %d of %zu: below the cut of %zu pixels",
+                  scoreName().c_str(), double(scores_[p]), rank_[p] + 1, pixelCount_,
+                  rankedLastRound_);
+  }
+  in.reason = line;
+  return in;
+}
+
+// ---- F-divergence, fuzzy and Cycles criteria --------------------------------------
+
+namespace {
+
+void parallelPixels(size_t count, const std::function<void(size_t)>& body) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kPixelGrain * 4),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p < r.end(); ++p) body(p);
+                    });
+}
+
+class CriterionMethod final : public AllocationMethod {
+ public:
+  CriterionMethod(const PreparedScene& prepared, const AdaptiveConfig& config)
+      : AllocationMethod(prepared, config, toString(config.criterion)),
+        criterion_(config),
+        sum_(pixelCount_, glm::dvec3(0.0)) {
+    if (config.fuzzyReservoir < 1) throw std::invalid_argument("the fuzzy reservoir must be >= 1");
+    if (config.criterion == AdaptiveCriterion::Cycles) {
+      sumHalf_.assign(pixelCount_, glm::dvec3(0.0));
+      halfCount_.assign(pixelCount_, 0);
+    } else {
+      lum_.resize(pixelCount_);
+    }
+    if (config.criterion == AdaptiveCriterion::Fuzzy) {
+      values_.resize(pixelCount_);
+      minimum_.assign(pixelCount_, INFINITY);
+      maximum_.assign(pixelCount_, -INFINITY);
+    }
+  }
+
+ protected:
+  void addSample(size_t p, uint32_t index, vec3 L) override {
+    sum_[p] += glm::dvec3(L);
+    const double y = std::max(0.0f, luminance(L));
+    switch (criterion_.criterion) {
+      case AdaptiveCriterion::Cycles:
+        if (index % 2 == 0) sumHalf_[p] += glm::dvec3(L);
+        ++halfCount_[p];
+        break;
+      case AdaptiveCriterion::Fuzzy: {
+        lum_[p].add(y);
+        minimum_[p] = std::min(minimum_[p], float(y));
+        maximum_[p] = std::max(maximum_[p], float(y));
+        auto& v = values_[p];
+        if (v.size() < size_t(criterion_.fuzzyReservoir)) {
+          v.push_back(float(y));
+        } else {  // reservoir sampling, keyed on (seed, pixel, index): deterministic
+          const uint64_t j = hashValues(config_.seed, p, index) % lum_[p].n;
+          if (j < v.size()) v[j] = float(y);
+        }
+        break;
+      }
+      case AdaptiveCriterion::FDivergence:
+        lum_[p].add(y);
+        break;
+    }
+  }
+
+  void computeScores(std::vector<float>& scores) override {
+    parallelPixels(pixelCount_, [&](size_t p) {
+      double s = 0;
+      switch (criterion_.criterion) {
+        case AdaptiveCriterion::FDivergence:
+          s = adaptive::fDivergenceScore(lum_[p], criterion_.divergence);
+          break;
+        case AdaptiveCriterion::Fuzzy:
+          if (lum_[p].n > 0)
+            s = adaptive::fuzzyScore(values_[p], minimum_[p], maximum_[p], lum_[p].sum / lum_[p].n,
+                                     lum_[p].n);
+          break;
+        case AdaptiveCriterion::Cycles: {
+          const uint32_t n = halfCount_[p];
+          if (n > 0)
+            s = adaptive::cyclesError(vec3(sum_[p] / double(n)),
+                                      vec3(2.0 * sumHalf_[p] / double(n)));
+          break;
+        }
+      }
+      scores[p] = std::isfinite(s) ? float(s) : 0.0f;
+    });
+    if (criterion_.criterion == AdaptiveCriterion::Cycles && criterion_.cyclesDilate)
+      dilate(scores);
+  }
+
+  vec3 pixelMean(size_t p) const override {
+    uint32_t n = 0;
+    if (criterion_.criterion == AdaptiveCriterion::Cycles)
+      n = halfCount_[p];
+    else
+      n = lum_[p].n;
+    return n > 0 ? vec3(sum_[p] / double(n)) : vec3(0.0f);
+  }
+
+  size_t statisticsBytes() const override {
+    size_t bytes = (sum_.capacity() + sumHalf_.capacity()) * sizeof(glm::dvec3) +
+                   lum_.capacity() * sizeof(adaptive::LuminanceSums) +
+                   halfCount_.capacity() * sizeof(uint32_t) +
+                   (minimum_.capacity() + maximum_.capacity()) * sizeof(float);
+    for (const auto& v : values_) bytes += sizeof(v) + v.capacity() * sizeof(float);
+    return bytes;
+  }
+
+  std::string scoreName() const override {
+    switch (criterion_.criterion) {
+      case AdaptiveCriterion::FDivergence:
+        return "f-divergence score";
+      case AdaptiveCriterion::Fuzzy:
+        return "fuzzy uncertainty";
+      case AdaptiveCriterion::Cycles:
+        return "half-buffer error";
+    }
+    return "score";
+  }
+
+ private:
+  // Unconverged regions grow by one pixel in x, then in y: a 3x3 maximum filter.
+  void dilate(std::vector<float>& scores) const {
+    std::vector<float> tmp(scores.size());
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x) {
+        float m = scores[size_t(y) * width_ + x];
+        if (x > 0) m = std::max(m, scores[size_t(y) * width_ + x - 1]);
+        if (x + 1 < width_) m = std::max(m, scores[size_t(y) * width_ + x + 1]);
+        tmp[size_t(y) * width_ + x] = m;
+      }
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x) {
+        float m = tmp[size_t(y) * width_ + x];
+        if (y > 0) m = std::max(m, tmp[size_t(y - 1) * width_ + x]);
+        if (y + 1 < height_) m = std::max(m, tmp[size_t(y + 1) * width_ + x]);
+        scores[size_t(y) * width_ + x] = m;
+      }
+  }
+
+  AdaptiveConfig criterion_;
+  std::vector<glm::dvec3> sum_, sumHalf_;
+  std::vector<adaptive::LuminanceSums> lum_;
+  std::vector<uint32_t> halfCount_;  // Cycles: finite samples per pixel
+  std::vector<std::vector<float>> values_;
+  std::vector<float> minimum_, maximum_;
+};
+
+}  // namespace
+
+std::unique_ptr<ProgressiveMethod> makeAdaptiveMethod(const PreparedScene& prepared,
+                                                      const AdaptiveConfig& config) {
+  return std::make_unique<CriterionMethod>(prepared, config);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,160 @@
+// The shared allocation framework of the adaptive baselines (ALGORITHM.md §10.2-§10.5,
+// §11): a low-discrepancy initial pass of N0 = min(4, spp) samples per pixel, then rounds
+// that each spend an equal share of the remaining budget on the pixels a criterion scores
+// highest, a batch of `batch` samples (spp by default) per chosen pixel. With spp = N
+// exactly N x #pixels samples are drawn. A criterion supplies the per-pixel statistics,
+// the score and (GEM) its own sample placement and reconstruction; everything else (the
+// schedule, the ranking, tracing, determinism, snapshots and inspection) is here.
+//
+// Sample placement: a pixel's k-th sample is sample k of its scrambled (0,2) sequence
+// (the offset continues the pixel's LD sequence, as §10.2 asks), whichever round drew it.
+//
+// Determinism: the round's samples are planned serially in ranking order (ties broken by
+// pixel index), then traced and accumulated pixel by pixel in sample order, so the image
+// after each round is the same whatever the number of threads.
+#pragma once
+
+#include "methods/common.h"
+#include "methods/progressive.h"
+#include "trace/integrator.h"
+#include "trace/sampler.h"
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+struct AllocationConfig {
+  uint64_t seed = 0;
+  int spp = 16;        // batch mode: samples per pixel on average
+  int initialSpp = 0;  // N0; 0 = min(4, spp)
+  int rounds = 8;      // adaptive rounds of the batch schedule
+  int batch = 0;       // samples a chosen pixel gets per round; 0 = spp (8 open-ended)
+  bool openEnded = false;
+  int roundSpp = 1;  // open-ended: samples per pixel per round, on average
+  int maxSpp = 0;    // open-ended: stop at this average spp (0 = never)
+  SamplerKind sampler = SamplerKind::LowDiscrepancy;
+
+  int effectiveInitialSpp() const;
+  int effectiveBatch() const;
+  // Empty when valid, else a message naming the offending parameter.
+  std::string validate() const;
+};
+
+// The criteria of §10.2, §10.3 and §10.5 (GEM, §10.4, is gem_method.h).
+enum class AdaptiveCriterion {
+  FDivergence,  // Rigau et al. 2003: mean luminance x sqrt(divergence from uniform) / N
+  Fuzzy,        // our re-implementation of Xu et al. 2008's fuzzy uncertainty [A22]
+  Cycles        // Blender Cycles' half-buffer error (Dammertz et al. 2010)
+};
+enum class Divergence { Hellinger, KullbackLeibler, ChiSquare };  // [A21]
+
+struct AdaptiveConfig : AllocationConfig {
+  AdaptiveCriterion criterion = AdaptiveCriterion::FDivergence;
+  Divergence divergence = Divergence::Hellinger;
+  int fuzzyReservoir = 1024;  // luminances kept per pixel for the fuzzy entropy
+  bool cyclesDilate = true;   // Cycles dilates unconverged pixels by 1 px in x, then y
+};
+
+const char* toString(AdaptiveCriterion criterion);
+
+// Throws std::invalid_argument with validate()'s message on a bad configuration. The
+// prepared scene must outlive the method.
+std::unique_ptr<ProgressiveMethod> makeAdaptiveMethod(const PreparedScene& prepared,
+                                                      const AdaptiveConfig& config);
+
+// The error measures on one pixel's samples, exposed for tests.
+namespace adaptive {
+
+// Running sums of a pixel's sample luminances (linear, clamped at 0): enough for all
+// three f-divergences against the uniform distribution without storing the samples.
+struct LuminanceSums {
+  uint32_t n = 0;
+  double sum = 0, sumSqrt = 0, sumSquares = 0, sumLLogL = 0;
+  void add(double luminance);
+};
+// The divergence of p_i = L_i / sum L from uniform q_i = 1/N: Hellinger
+// 1/2 sum (sqrt p_i - sqrt(1/N))^2, Kullback-Leibler sum p_i ln(N p_i), chi-square
+// N sum p_i^2 - 1. 0 when N < 2 or sum L = 0.
+double divergence(const LuminanceSums& s, Divergence kind);
+// Rigau's refinement score with eq. 15's 1/N: mean L x sqrt(divergence) / N.
+double fDivergenceScore(const LuminanceSums& s, Divergence kind);
+
+// The stand-in fuzzy uncertainty of §10.3 on a pixel's luminances: De Luca-Termini
+// entropy of the min-max normalised values, times the contrast (max-min)/(max+min+eps),
+// times mean / sqrt(N). `values` may be a subsample of the pixel's n samples (their
+// exact min, max and mean are passed separately); 0 when the range < 1e-4 x mean.
+double fuzzyScore(std::span<const float> values, double minimum, double maximum, double mean,
+                  uint32_t n);
+
+// Cycles' error of a pixel: sum_c |I_c - A_c| / (1e-4 + N(I)), I the mean of all samples,
+// A twice the class-A (even index) samples' sum over all samples, N(I) = sqrt(sum I) when
+// sum I < 1, else sum I.
+double cyclesError(vec3 meanAll, vec3 meanHalf);
+
+}  // namespace adaptive
+
+// ---- The framework, for the criteria (allocation.cpp, gem_method.cpp) ----------------
+
+struct PlannedSample {
+  uint32_t pixel = 0;  // where it lands
+  uint32_t index = 0;  // its index in that pixel's sample sequence
+};
+
+class AllocationMethod : public ProgressiveMethod {
+ public:
+  AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config, std::string name);
+
+  void runRound(const std::atomic<bool>* cancel) override;
+  bool done() const override;
+  int roundsDone() const override { return rounds_; }
+  size_t memoryBytes() const override;
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
+                                     const std::atomic<bool>* cancel) override;
+  PixelInspection inspect(int x, int y) const override;
+
+ protected:
+  // Adds a finite sample to the pixel's statistics. Called from worker threads, but for
+  // one pixel by one thread at a time, in sample order.
+  virtual void addSample(size_t pixel, uint32_t index, vec3 radiance) = 0;
+  // Recomputes every pixel's score (higher = sample first) after a round.
+  virtual void computeScores(std::vector<float>& scores) = 0;
+  // Where the `count` samples a chosen pixel gets this round land; the default keeps them
+  // in the pixel. Called serially, in ranking order.
+  virtual void placeSamples(uint32_t pixel, int count, std::vector<uint32_t>& landing);
+  // The per-pixel mean (linear RGB) the statistics hold.
+  virtual vec3 pixelMean(size_t pixel) const = 0;
+  // The reconstructed image and the method's maps; the default is the box mean.
+  virtual void finishSnapshot(Snapshot& snap, bool reconstructImage,
+                              const std::atomic<bool>* cancel);
+  virtual size_t statisticsBytes() const = 0;
+  virtual std::string scoreName() const { return "score"; }
+
+  const PreparedScene& prepared_;
+  AllocationConfig config_;
+  std::string name_;
+  int width_, height_;
+  size_t pixelCount_;
+  int rounds_ = 0;
+  std::vector<float> scores_;
+  uint64_t round() const { return uint64_t(rounds_); }
+
+ private:
+  void trace(std::vector<PlannedSample>& plan, const std::atomic<bool>* cancel);
+  uint64_t roundBudget() const;
+
+  std::vector<uint32_t> drawn_;  // samples drawn per pixel (the next sequence index)
+  std::vector<uint32_t> kept_;   // finite samples per pixel
+  std::vector<uint8_t> selected_;
+  std::vector<int32_t> rank_;  // last round's place in the ranking, -1: not chosen
+  std::vector<uint32_t> addedLastRound_;
+  size_t rankedLastRound_ = 0;
+  uint64_t drawnTotal_ = 0;
+  method::Counters counters_;
+  PhaseTimes times_;
+  method::Clock::time_point start_;
+};
+
+}  // namespace penumbra

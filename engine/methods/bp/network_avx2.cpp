@@ -1,0 +1,15 @@
+// The BP-network training kernel for AVX2 + FMA, 8 lanes. CMake gives this file its
+// instruction-set flags; bp_network.cpp calls it only when the CPU has them.
+#include <immintrin.h>
+
+#include <cstdint>
+
+#include "methods/bp/network.h"
+
+#define PENUMBRA_BP_LANES 8
+
+namespace penumbra::bpnet_avx2 {
+
+#include "methods/bp/network_kernel.inc"
+
+}  // namespace penumbra::bpnet_avx2

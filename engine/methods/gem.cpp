@@ -1,0 +1,258 @@
+#include "methods/gem.h"
+
+#include "core/rng.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace penumbra {
+
+namespace gem {
+
+const std::vector<float>& samplingScales() {
+  static const std::vector<float> s{1.0f, 2.0f, 4.0f, 8.0f};
+  return s;
+}
+
+const std::vector<float>& finalScales() {
+  static const std::vector<float> s = [] {
+    std::vector<float> v;
+    for (int i = 0; i < 8; ++i) v.push_back(float(std::sqrt(0.5) * std::pow(std::sqrt(2.0), i)));
+    return v;
+  }();
+  return s;
+}
+
+double cGamma(double gamma) { return -std::log(1.0 - std::pow(1.9 * gamma, 1.0 / std::sqrt(2.0))); }
+
+namespace {
+
+// One separable pass along x (stride 1) or y (stride width).
+void filterPass(const float* src, float* dst, int width, int height, int channels,
+                const std::vector<float>& taps, bool squared, bool alongX) {
+  const int radius = int(taps.size() / 2);
+  const int lines = alongX ? height : width, length = alongX ? width : height;
+  tbb::parallel_for(tbb::blocked_range<int>(0, lines, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int line = r.begin(); line < r.end(); ++line)
+      for (int i = 0; i < length; ++i) {
+        const int lo = std::max(0, i - radius), hi = std::min(length - 1, i + radius);
+        double norm = 0;
+        double acc[4] = {0, 0, 0, 0};
+        for (int j = lo; j <= hi; ++j) {
+          const double w = taps[size_t(j - i + radius)];
+          norm += w;
+          const double ww = squared ? w * w : w;
+          const size_t at = alongX ? (size_t(line) * width + j) : (size_t(j) * width + line);
+          for (int c = 0; c < channels; ++c) acc[c] += ww * src[at * channels + c];
+        }
+        const double d = squared ? norm * norm : norm;
+        const size_t at = alongX ? (size_t(line) * width + i) : (size_t(i) * width + line);
+        for (int c = 0; c < channels; ++c) dst[at * channels + c] = float(acc[c] / d);
+      }
+  });
+}
+
+}  // namespace
+
+void gaussianFilter(std::span<const float> src, std::span<float> dst, int width, int height,
+                    int channels, float sigma, bool squared) {
+  if (channels < 1 || channels > 4) throw std::invalid_argument("1 to 4 channels");
+  const size_t n = size_t(width) * height * channels;
+  if (src.size() != n || dst.size() != n) throw std::invalid_argument("plane size mismatch");
+  const int radius = std::max(1, int(std::ceil(3.0f * sigma)));
+  std::vector<float> taps(size_t(2 * radius + 1));
+  for (int i = -radius; i <= radius; ++i)
+    taps[size_t(i + radius)] = float(std::exp(-double(i) * i / (2.0 * double(sigma) * sigma)));
+  std::vector<float> tmp(n);
+  filterPass(src.data(), tmp.data(), width, height, channels, taps, squared, true);
+  filterPass(tmp.data(), dst.data(), width, height, channels, taps, squared, false);
+}
+
+namespace {
+std::span<const float> floats(const std::vector<vec3>& v) {
+  return {reinterpret_cast<const float*>(v.data()), v.size() * 3};
+}
+std::span<float> floats(std::vector<vec3>& v) {
+  return {reinterpret_cast<float*>(v.data()), v.size() * 3};
+}
+float meanOf(vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
+}  // namespace
+
+ScaleSelection selectScales(const PixelStatistics& stats, std::span<const float> sigmas,
+                            double gamma, bool finalPass) {
+  const int w = stats.width, h = stats.height;
+  const size_t n = size_t(w) * h;
+  if (stats.mean.size() != n || stats.variance.size() != n || stats.count.size() != n)
+    throw std::invalid_argument("GEM statistics: plane size mismatch");
+  const double cg = cGamma(gamma);
+  ScaleSelection out;
+  out.scale.assign(n, 0);
+  out.count = stats.count;
+  out.estimate = stats.mean;
+  out.mse.resize(n);
+  for (size_t p = 0; p < n; ++p) out.mse[p] = meanOf(stats.variance[p]);
+  std::vector<uint8_t> alive(n, 1);
+  std::vector<vec3> fineI = stats.mean, fineV = stats.variance, coarseI(n), coarseV(n);
+  std::vector<float> coarseN(n), invalid(n), smoothed(n), delta(n);
+  float fineSigma = 0;
+  for (size_t s = 0; s < sigmas.size(); ++s) {
+    const float sigma = sigmas[s];
+    gaussianFilter(floats(stats.mean), floats(coarseI), w, h, 3, sigma, false);
+    gaussianFilter(floats(stats.variance), floats(coarseV), w, h, 3, sigma, true);
+    gaussianFilter(stats.count, coarseN, w, h, 1, sigma, false);
+    const double beta = fineSigma == 0
+                            ? 1.0
+                            : (double(sigma) * sigma + double(fineSigma) * fineSigma) /
+                                  (double(sigma) * sigma - double(fineSigma) * fineSigma);
+    for (size_t p = 0; p < n; ++p) {
+      const vec3 gain = fineV[p] - coarseV[p];
+      const vec3 d = fineI[p] - coarseI[p];
+      const vec3 loss = float(beta) * d * d;
+      const float z = float(cg * std::max(0.0, 1.0 - 1.0 / std::max(1e-6f, coarseN[p])));
+      invalid[p] = meanOf(z * loss - gain) >= 0.0f ? 1.0f : 0.0f;
+      delta[p] = meanOf(loss - gain);
+    }
+    gaussianFilter(invalid, smoothed, w, h, 1, sigma, false);
+    for (size_t p = 0; p < n; ++p) {
+      const float rounded = smoothed[p] >= 0.5f ? 1.0f : 0.0f;
+      const bool bad = (finalPass ? std::min(invalid[p], rounded) : rounded) > 0.5f;
+      if (!alive[p]) continue;
+      if (bad) {
+        alive[p] = 0;
+        continue;
+      }
+      out.scale[p] = uint8_t(s + 1);
+      out.mse[p] += delta[p];
+      out.count[p] = coarseN[p];
+      out.estimate[p] = coarseI[p];
+    }
+    std::swap(fineI, coarseI);
+    std::swap(fineV, coarseV);
+    fineSigma = sigma;
+  }
+  for (float& m : out.mse) m = std::max(0.0f, m);
+  return out;
+}
+
+float pixelError(const ScaleSelection& s, size_t p, int spp) {
+  const vec3 e = s.estimate[p];
+  const double rel = s.mse[p] / (1e-3 + meanOf(e * e));
+  const double gain = double(spp) / (double(spp) + std::max(0.0f, s.count[p]));
+  const double v = rel * gain;
+  return std::isfinite(v) ? float(v) : 0.0f;
+}
+
+}  // namespace gem
+
+namespace {
+
+class GemMethod final : public AllocationMethod {
+ public:
+  GemMethod(const PreparedScene& prepared, const GemConfig& config)
+      : AllocationMethod(prepared, config, "gem"),
+        gamma_(config.gamma),
+        mean_(pixelCount_, glm::dvec3(0.0)),
+        m2_(pixelCount_, glm::dvec3(0.0)),
+        n_(pixelCount_, 0),
+        samplingScale_(pixelCount_, 0) {
+    if (!(config.gamma > 0.0f && config.gamma < 1.0f / 1.9f))
+      throw std::invalid_argument("gamma must be in (0, 0.526)");
+  }
+
+ protected:
+  void addSample(size_t p, uint32_t, vec3 L) override {
+    // Welford: mean and sum of squared deviations, in sample order.
+    ++n_[p];
+    const glm::dvec3 x(L);
+    const glm::dvec3 d = x - mean_[p];
+    mean_[p] += d / double(n_[p]);
+    m2_[p] += d * (x - mean_[p]);
+  }
+
+  void computeScores(std::vector<float>& scores) override {
+    const gem::ScaleSelection s =
+        gem::selectScales(statistics(), gem::samplingScales(), gamma_, false);
+    const int spp = config_.effectiveBatch();
+    for (size_t p = 0; p < pixelCount_; ++p) {
+      scores[p] = gem::pixelError(s, p, spp);
+      samplingScale_[p] = s.scale[p];
+    }
+  }
+
+  void placeSamples(uint32_t pixel, int count, std::vector<uint32_t>& landing) override {
+    landing.assign(size_t(count), pixel);
+    const int scale = samplingScale_[pixel];
+    if (scale == 0) return;
+    const float sigma = gem::samplingScales()[size_t(scale - 1)];
+    Pcg32 rng(hashValues(config_.seed, pixel, round()), 0x67656du);
+    const int px = int(pixel % width_), py = int(pixel / width_);
+    for (int k = 0; k < count; ++k)
+      for (int attempt = 0; attempt < 4; ++attempt) {
+        // Box-Muller: a position from the scale's Gaussian centred on the pixel.
+        const float u1 = std::max(1e-7f, rng.nextFloat()), u2 = rng.nextFloat();
+        const float r = sigma * std::sqrt(-2.0f * std::log(u1));
+        const float x = float(px) + 0.5f + r * std::cos(6.2831853f * u2);
+        const float y = float(py) + 0.5f + r * std::sin(6.2831853f * u2);
+        if (x < 0 || y < 0 || x >= float(width_) || y >= float(height_)) continue;
+        landing[size_t(k)] = uint32_t(int(y)) * uint32_t(width_) + uint32_t(int(x));
+        break;
+      }
+  }
+
+  vec3 pixelMean(size_t p) const override { return vec3(mean_[p]); }
+
+  void finishSnapshot(Snapshot& snap, bool reconstructImage, const std::atomic<bool>*) override {
+    if (!reconstructImage) return;
+    const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
+    snap.reconstructed = Image(width_, height_);
+    snap.reconstructed.pixels = s.estimate;
+    snap.alphaIndex = s.scale;
+    snap.filterScaleLabels = {"none"};
+    for (float sigma : gem::finalScales()) {
+      char label[24];
+      std::snprintf(label, sizeof label, "s=%.2g", double(sigma));
+      snap.filterScaleLabels.push_back(label);
+    }
+  }
+
+  size_t statisticsBytes() const override {
+    return (mean_.capacity() + m2_.capacity()) * sizeof(glm::dvec3) +
+           n_.capacity() * sizeof(uint32_t) + samplingScale_.capacity();
+  }
+  std::string scoreName() const override { return "estimated relative MSE"; }
+
+ private:
+  gem::PixelStatistics statistics() const {
+    gem::PixelStatistics st;
+    st.width = width_;
+    st.height = height_;
+    st.mean.resize(pixelCount_);
+    st.variance.resize(pixelCount_);
+    st.count.resize(pixelCount_);
+    for (size_t p = 0; p < pixelCount_; ++p) {
+      st.mean[p] = vec3(mean_[p]);
+      st.count[p] = float(n_[p]);
+      st.variance[p] = n_[p] > 1 ? vec3(m2_[p] / (double(n_[p] - 1) * double(n_[p]))) : vec3(0.0f);
+    }
+    return st;
+  }
+
+  double gamma_;
+  std::vector<glm::dvec3> mean_, m2_;
+  std::vector<uint32_t> n_;
+  std::vector<uint8_t> samplingScale_;
+};
+
+}  // namespace
+
+std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
+                                                 const GemConfig& config) {
+  return std::make_unique<GemMethod>(prepared, config);
+}
+
+}  // namespace penumbra

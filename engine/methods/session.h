@@ -1,0 +1,94 @@
+// A render session: runs a progressive method's rounds on a worker thread and publishes a
+// snapshot after each round, so a viewer only has to draw the latest one. The caller's
+// thread never waits for a round: every call here returns at once (except wait()).
+//
+// Control: start, pause (after the round in flight), resume, step (one round, then
+// pause), cancel (the round in flight stops at its next safe point), and restart with a
+// new method (on a camera or parameter change: the old round is cancelled and the new
+// method starts from its coarse pass).
+#pragma once
+
+#include "methods/progressive.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace penumbra {
+
+class RenderSession {
+ public:
+  // Builds the method to run; called on the worker thread at every (re)start.
+  using MethodFactory = std::function<std::unique_ptr<ProgressiveMethod>()>;
+
+  enum class State { Idle, Running, Paused, Finished, Cancelled, Failed };
+
+  // threads: worker threads for the rounds (0 = all cores). background: run the rounds at a
+  // lower scheduling priority (nice +10), so that an interactive thread on the same cores
+  // (the viewer's UI, a software GL rasteriser) keeps its frame rate; throughput only drops
+  // by what that thread uses.
+  explicit RenderSession(int threads = 0, bool background = false);
+  ~RenderSession();  // cancels and joins
+  RenderSession(const RenderSession&) = delete;
+  RenderSession& operator=(const RenderSession&) = delete;
+
+  // From scratch, running; with rounds >= 0 it pauses after that many rounds (a headless
+  // screenshot after exactly N rounds).
+  // Returns the generation of this start: latest() tells which generation a snapshot is of.
+  uint64_t start(MethodFactory factory, int rounds = -1);
+  uint64_t restart(MethodFactory factory, int rounds = -1);  // as start: cancels what runs
+  void pause();
+  void resume();
+  void step();  // runs one round, then pauses
+  void cancel();
+
+  State state() const;
+  std::string error() const;  // the exception message when the state is Failed
+  // The latest published snapshot (null before the first round completes) and a counter
+  // that increases with every publication.
+  // With `generation`, also the start the snapshot belongs to (a snapshot of the method
+  // before a restart may be the latest for a moment after it).
+  std::shared_ptr<const Snapshot> latest(uint64_t* generation = nullptr) const;
+  uint64_t version() const { return version_.load(); }
+  // Asks for the inspection of pixel (x, y) (-1, -1: none). It is taken after every round,
+  // and at once when no round runs; the method also records that pixel's candidates.
+  void inspect(int x, int y);
+  std::shared_ptr<const PixelInspection> inspection() const;  // null until one is taken
+  uint64_t inspectionVersion() const { return inspectionVersion_.load(); }
+
+  // Blocks until the session is not Running (paused, finished, cancelled or failed) or
+  // `timeoutSeconds` pass; returns whether it stopped running.
+  bool wait(double timeoutSeconds = 1e30);
+
+ private:
+  void worker();
+
+  int threads_;
+  bool background_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;  // to the worker: a command arrived
+  std::condition_variable idle_;  // to waiters: the state left Running
+  MethodFactory factory_;
+  uint64_t generation_ = 0;  // incremented by every start
+  State state_ = State::Idle;
+  int stepsLeft_ = -1;  // -1: run freely; n >= 0: rounds before pausing
+  bool quit_ = false;
+  std::string error_;
+  std::atomic<bool> cancelRound_{false};
+  std::shared_ptr<const Snapshot> latest_;
+  uint64_t latestGeneration_ = 0;
+  std::atomic<uint64_t> version_{0};
+  int inspectX_ = -1, inspectY_ = -1;
+  bool inspectPending_ = false;  // a new pixel was asked for
+  std::shared_ptr<const PixelInspection> inspection_;
+  std::atomic<uint64_t> inspectionVersion_{0};
+  std::thread thread_;
+};
+
+const char* toString(RenderSession::State state);
+
+}  // namespace penumbra

@@ -1,0 +1,73 @@
+#include "scene/camera.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace penumbra {
+
+CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+  const vec3 view = camera.lookAt - camera.eye;
+  const float viewLength = glm::length(view);
+  if (!(viewLength > 1e-8f)) throw std::invalid_argument("camera eye and look-at coincide");
+  if (!(camera.vfovDegrees > 0.0f && camera.vfovDegrees < 180.0f))
+    throw std::invalid_argument("camera fov must be in (0, 180) degrees");
+  CameraFrame f;
+  f.eye = camera.eye;
+  f.forward = view / viewLength;
+  const vec3 right = glm::cross(f.forward, camera.up);
+  if (!(glm::length(right) > 1e-6f))
+    throw std::invalid_argument("camera up vector is parallel to the view direction");
+  f.right = glm::normalize(right);
+  f.upAxis = glm::cross(f.right, f.forward);
+  f.halfHeight = std::tan(0.5f * camera.vfovDegrees * 3.14159265358979f / 180.0f);
+  f.halfWidth = f.halfHeight * float(width) / float(height);
+  f.lensRadius = camera.lensRadius;
+  f.focusDistance = camera.focusDistance > 0.0f ? camera.focusDistance : viewLength;
+  f.shutterOpen = camera.shutterOpen;
+  f.shutterClose = camera.shutterClose;
+  f.width = width;
+  f.height = height;
+  return f;
+}
+
+glm::vec2 sampleUnitDisk(float u, float v) {
+  const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+  if (a == 0.0f && b == 0.0f) return glm::vec2(0.0f);
+  constexpr float quarterPi = 0.78539816339f;
+  float r, theta;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    theta = quarterPi * (b / a);
+  } else {
+    r = b;
+    theta = 2.0f * quarterPi - quarterPi * (a / b);
+  }
+  return r * glm::vec2(std::cos(theta), std::sin(theta));
+}
+
+Ray generateRay(const CameraFrame& f, const CameraSample& s) {
+  // Point on the film plane at distance 1 along forward.
+  const float ndcX = 2.0f * s.imageX / float(f.width) - 1.0f;
+  const float ndcY = 1.0f - 2.0f * s.imageY / float(f.height);
+  const vec3 dir = f.forward + ndcX * f.halfWidth * f.right + ndcY * f.halfHeight * f.upAxis;
+  Ray ray;
+  ray.time = f.shutterOpen + s.time * (f.shutterClose - f.shutterOpen);
+  if (f.lensRadius <= 0.0f) {
+    ray.origin = f.eye;
+    ray.direction = glm::normalize(dir);
+    return ray;
+  }
+  // Thin lens: every ray through this film point meets at the focus plane, which lies
+  // at distance focusDistance along forward (dir has unit forward component).
+  const vec3 focusPoint = f.eye + f.focusDistance * dir;
+  const glm::vec2 lens = f.lensRadius * sampleUnitDisk(s.lensU, s.lensV);
+  ray.origin = f.eye + lens.x * f.right + lens.y * f.upAxis;
+  ray.direction = glm::normalize(focusPoint - ray.origin);
+  return ray;
+}
+
+}  // namespace penumbra

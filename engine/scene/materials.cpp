@@ -1,0 +1,189 @@
+#include "scene/materials.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra {
+
+namespace {
+constexpr float kPi = 3.14159265358979f;
+constexpr float kInvPi = 0.31830988618f;
+
+// Cosine-weighted hemisphere direction about +z.
+vec3 cosineHemisphere(glm::vec2 u) {
+  const glm::vec2 d = sampleUnitDisk(u.x, u.y);
+  return vec3(d.x, d.y, std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y)));
+}
+
+float ggxD(vec3 h, float alpha) {
+  const float cos2 = h.z * h.z;
+  if (cos2 <= 0) return 0;
+  const float a2 = alpha * alpha;
+  const float d = cos2 * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * d * d);
+}
+
+// Smith Lambda for GGX.
+float ggxLambda(vec3 w, float alpha) {
+  const float cos2 = w.z * w.z;
+  if (cos2 >= 1.0f) return 0;
+  const float tan2 = (1.0f - cos2) / std::max(cos2, 1e-12f);
+  return 0.5f * (-1.0f + std::sqrt(1.0f + alpha * alpha * tan2));
+}
+
+float ggxG(vec3 wo, vec3 wi, float alpha) {
+  return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
+}
+
+vec3 schlick(vec3 f0, float cosTheta) {
+  const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
+  const float m5 = (m * m) * (m * m) * m;
+  return f0 + (vec3(1.0f) - f0) * m5;
+}
+
+// Local-space (n = +z) helpers. Diffuse and conductor are two-sided: wo below the
+// surface is handled by mirroring both directions to the upper side.
+vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  if (wo.z * wi.z <= 0) return vec3(0.0f);  // transmission is never non-specular here
+  if (wo.z < 0) {
+    wo.z = -wo.z;
+    wi.z = -wi.z;
+  }
+  switch (b.type) {
+    case Material::Type::Diffuse:
+      return b.color * (kInvPi * wi.z);
+    case Material::Type::Conductor: {
+      const vec3 h = glm::normalize(wo + wi);
+      const float d = ggxD(h, b.alpha), g = ggxG(wo, wi, b.alpha);
+      return schlick(b.color, glm::dot(wi, h)) * (d * g / (4.0f * wo.z));
+    }
+    default:
+      return vec3(0.0f);
+  }
+}
+
+float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  if (wo.z * wi.z <= 0) return 0;
+  if (wo.z < 0) {
+    wo.z = -wo.z;
+    wi.z = -wi.z;
+  }
+  switch (b.type) {
+    case Material::Type::Diffuse:
+      return wi.z * kInvPi;
+    case Material::Type::Conductor: {
+      const vec3 h = glm::normalize(wo + wi);
+      return ggxD(h, b.alpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
+    }
+    default:
+      return 0;
+  }
+}
+}  // namespace
+
+ShadingFrame makeFrame(vec3 n) {
+  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  ShadingFrame f;
+  f.n = n;
+  f.s = vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  f.t = vec3(b, sign + n.y * n.y * a, -n.y);
+  return f;
+}
+
+vec3 ShadingFrame::toLocal(vec3 v) const {
+  return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)};
+}
+vec3 ShadingFrame::toWorld(vec3 v) const { return v.x * s + v.y * t + v.z * n; }
+
+float fresnelDielectric(float cosThetaI, float eta) {
+  cosThetaI = std::clamp(cosThetaI, -1.0f, 1.0f);
+  if (cosThetaI < 0) {
+    eta = 1.0f / eta;
+    cosThetaI = -cosThetaI;
+  }
+  const float sin2I = 1.0f - cosThetaI * cosThetaI;
+  const float sin2T = sin2I / (eta * eta);
+  if (sin2T >= 1.0f) return 1.0f;  // total internal reflection
+  const float cosT = std::sqrt(1.0f - sin2T);
+  const float rPar = (eta * cosThetaI - cosT) / (eta * cosThetaI + cosT);
+  const float rPerp = (cosThetaI - eta * cosT) / (cosThetaI + eta * cosT);
+  return 0.5f * (rPar * rPar + rPerp * rPerp);
+}
+
+vec3 evalBsdfCos(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  // Reject light leaks: reflection must stay on one side of the geometric surface too.
+  if (glm::dot(wo, b.geometricNormal) * glm::dot(wi, b.geometricNormal) <= 0) return vec3(0.0f);
+  return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+}
+
+float bsdfPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+}
+
+bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfSample& out) {
+  const vec3 wo = b.frame.toLocal(woWorld);
+  if (wo.z == 0) return false;
+  const float side = wo.z > 0 ? 1.0f : -1.0f;
+  vec3 wi;
+  switch (b.type) {
+    case Material::Type::Diffuse:
+      wi = cosineHemisphere(u);
+      wi.z *= side;
+      break;
+    case Material::Type::Conductor: {
+      // Sample D(h) cos(theta_h), reflect wo about h.
+      const float a2 = b.alpha * b.alpha;
+      const float cos2 = (1.0f - u.x) / (1.0f + (a2 - 1.0f) * u.x);
+      const float cosT = std::sqrt(std::max(0.0f, cos2)),
+                  sinT = std::sqrt(std::max(0.0f, 1.0f - cos2));
+      const float phi = 2.0f * kPi * u.y;
+      vec3 h(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
+      h.z *= side;
+      wi = 2.0f * glm::dot(wo, h) * h - wo;
+      if (wi.z * wo.z <= 0) return false;
+      break;
+    }
+    case Material::Type::Mirror:
+      out.wi = b.frame.toWorld(vec3(-wo.x, -wo.y, wo.z));
+      out.weight = b.color;
+      out.pdf = 0;
+      out.specular = true;
+      return true;
+    case Material::Type::Dielectric: {
+      const float f = fresnelDielectric(wo.z, b.ior);
+      out.specular = true;
+      out.pdf = 0;
+      if (uc < f) {
+        out.wi = b.frame.toWorld(vec3(-wo.x, -wo.y, wo.z));
+        out.weight = vec3(1.0f);
+        return true;
+      }
+      // Refraction; eta relative to the side wo is on.
+      const float eta = wo.z > 0 ? 1.0f / b.ior : b.ior;  // n_from / n_to
+      const float cosI = std::abs(wo.z);
+      const float sin2T = eta * eta * (1.0f - cosI * cosI);
+      const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
+      wi = vec3(-eta * wo.x, -eta * wo.y, -side * cosT);
+      out.wi = glm::normalize(b.frame.toWorld(wi));
+      // Radiance is compressed by (n_from/n_to)^2 when crossing into the denser medium.
+      out.weight = vec3(eta * eta);
+      return true;
+    }
+  }
+  const vec3 f = evalLocal(b, wo, wi);
+  const float pdf = pdfLocal(b, wo, wi);
+  if (!(pdf > 0)) return false;
+  out.wi = b.frame.toWorld(wi);
+  if (glm::dot(woWorld, b.geometricNormal) * glm::dot(out.wi, b.geometricNormal) <= 0) return false;
+  out.weight = f / pdf;
+  out.pdf = pdf;
+  out.specular = false;
+  return true;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,50 @@
+// BSDFs of the five material kinds: Lambertian diffuse, rough conductor (GGX
+// microfacets, Smith shadowing, Schlick Fresnel), ideal mirror, smooth dielectric.
+// Emission is a property of any material (Material::emission). Directions are in
+// world space; wo points away from the surface towards the previous vertex.
+#pragma once
+
+#include "scene/scene.h"
+
+namespace penumbra {
+
+struct ShadingFrame {
+  vec3 n;     // shading normal
+  vec3 s, t;  // tangents completing an orthonormal basis with n
+  vec3 toLocal(vec3 v) const;
+  vec3 toWorld(vec3 v) const;
+};
+ShadingFrame makeFrame(vec3 n);
+
+// Material at one surface point with its textures already evaluated.
+struct SurfaceBsdf {
+  Material::Type type = Material::Type::Diffuse;
+  vec3 color = vec3(0.8f);  // diffuse albedo or specular tint
+  float alpha = 0.04f;      // GGX alpha (conductor)
+  float ior = 1.5f;
+  ShadingFrame frame;
+  vec3 geometricNormal;  // unit, the triangle's counter-clockwise normal
+
+  bool isSpecular() const {
+    return type == Material::Type::Mirror || type == Material::Type::Dielectric;
+  }
+};
+
+struct BsdfSample {
+  vec3 wi;
+  vec3 weight;    // f * |cos| / pdf
+  float pdf = 0;  // solid angle; 0 for specular lobes
+  bool specular = false;
+};
+
+// f(wo, wi) * |cos(n, wi)|; zero for specular materials.
+vec3 evalBsdfCos(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
+float bsdfPdf(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
+// u2 picks the direction, u1 picks between reflection and refraction.
+bool sampleBsdf(const SurfaceBsdf& bsdf, vec3 wo, glm::vec2 u2, float u1, BsdfSample& out);
+
+// Fresnel reflectance of a dielectric interface for cosThetaI (signed: negative means
+// arriving from inside) and relative index eta = n_inside / n_outside.
+float fresnelDielectric(float cosThetaI, float eta);
+
+}  // namespace penumbra

@@ -1,0 +1,101 @@
+// Scene description in memory: meshes (already in world space, with motion baked
+// into vertex time steps), materials, textures, the camera and render settings.
+// Plain structs; loading lives in scene_loader.*, meshes from files in mesh_io.*,
+// built-in shapes in shapes.*, ray queries in accel.*.
+#pragma once
+
+#include "core/image.h"
+#include "scene/camera.h"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+using glm::mat4;
+using glm::vec2;
+
+// An error in a scene or mesh file; the message names the file and the field.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Triangle mesh. With timeSteps > 1, positions (and normals) hold one full set of
+// vertices per step, step-major: vertex v of step s is at [s * vertexCount + v].
+// Steps are spread evenly over scene time [0, 1] (the shutter interval).
+struct Mesh {
+  std::string name;
+  uint32_t vertexCount = 0;
+  int timeSteps = 1;
+  std::vector<vec3> positions;
+  std::vector<vec3> normals;          // empty: flat shading
+  std::vector<vec2> uvs;              // empty: (0,0); never per step
+  std::vector<uint32_t> indices;      // 3 per triangle, counter-clockwise = front
+  std::vector<uint32_t> materialIds;  // one per triangle, index into Scene::materials
+
+  size_t triangleCount() const { return indices.size() / 3; }
+};
+
+// Texture: a tagged struct rather than a hierarchy; evaluated in textures.cpp.
+struct Texture {
+  enum class Kind { Constant, Image, Checker, Stripes };
+  Kind kind = Kind::Constant;
+  vec3 color0 = vec3(0.8f);  // constant colour, or first checker/stripe colour
+  vec3 color1 = vec3(0.2f);  // second checker/stripe colour
+  vec2 scale = vec2(1.0f);   // uv repetitions (checker cells / stripes per unit uv)
+  int imageIndex = -1;       // Kind::Image: index into Scene::images (linear RGB)
+};
+
+struct Material {
+  enum class Type { Diffuse, Conductor, Mirror, Dielectric };
+  Type type = Type::Diffuse;
+  std::string name;
+  int albedoTexture = -1;      // Diffuse: index into Scene::textures; -1 uses `albedo`
+  vec3 albedo = vec3(0.8f);    // Diffuse reflectance, or Conductor/Mirror tint (F0)
+  float roughness = 0.2f;      // Conductor: GGX alpha = roughness^2
+  float ior = 1.5f;            // Dielectric index of refraction
+  vec3 emission = vec3(0.0f);  // radiance emitted on the front side (CCW normal)
+  bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+struct RenderSettings {
+  int width = 256;
+  int height = 256;
+  int spp = 16;
+  int maxDepth = 8;  // path vertices after the camera; 1 = direct light only
+};
+
+struct Scene {
+  std::string sourcePath;  // for messages
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Image> images;
+  vec3 background = vec3(0.0f);
+  Camera camera;
+  RenderSettings settings;
+};
+
+// A per-vertex attribute (position or normal) of a mesh at scene time t in [0,1],
+// interpolated linearly between time steps as Embree does.
+template <typename T>
+T vertexAtTime(const std::vector<T>& values, const Mesh& mesh, uint32_t vertex, float time) {
+  if (mesh.timeSteps <= 1) return values[vertex];
+  const float f = std::clamp(time, 0.0f, 1.0f) * float(mesh.timeSteps - 1);
+  const int step = std::min(int(f), mesh.timeSteps - 2);
+  const float w = f - float(step);
+  const size_t base = size_t(step) * mesh.vertexCount + vertex;
+  return (1 - w) * values[base] + w * values[base + mesh.vertexCount];
+}
+
+// Axis-aligned bounds of every vertex of every step.
+void sceneBounds(const Scene& scene, vec3& lo, vec3& hi);
+
+}  // namespace penumbra

@@ -1,0 +1,195 @@
+#include "trace/integrator.h"
+
+#include "scene/materials.h"
+#include "scene/textures.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace penumbra {
+
+namespace {
+// Origins of secondary rays move off the surface by a distance relative to its scale.
+vec3 offsetOrigin(vec3 p, vec3 n, vec3 direction) {
+  const float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  const float eps = 2e-4f * scale;
+  return p + (glm::dot(direction, n) > 0 ? eps : -eps) * n;
+}
+
+float powerHeuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
+}
+
+SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
+  const Material& m = scene.materials[s.materialId];
+  SurfaceBsdf b;
+  b.type = m.type;
+  b.color = m.albedoTexture >= 0 ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv)
+                                 : m.albedo;
+  const float alpha = m.roughness * m.roughness;
+  b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
+  b.ior = m.ior;
+  b.frame = makeFrame(s.shadingNormal);
+  b.geometricNormal = s.geometricNormal;
+  return b;
+}
+
+// Per bounce: light choice (1D), light point (2D), BSDF direction (2D), lobe (1D), roulette (1D).
+}  // namespace
+
+namespace {
+
+// Camera frame and the flags that follow from the camera.
+void setCamera(PreparedScene& prepared) {
+  const Scene& s = prepared.scene;
+  try {
+    prepared.camera = makeCameraFrame(s.camera, s.settings.width, s.settings.height);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(s.sourcePath + ": camera: " + e.what());
+  }
+  prepared.usesLens = prepared.camera.lensRadius > 0;
+  prepared.usesTime =
+      s.camera.shutterClose > s.camera.shutterOpen &&
+      std::any_of(s.meshes.begin(), s.meshes.end(), [](const Mesh& m) { return m.timeSteps > 1; });
+}
+
+}  // namespace
+
+std::unique_ptr<PreparedScene> prepareScene(Scene scene) {
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = std::move(scene);
+  setCamera(*prepared);  // first: a bad camera fails before the BVH is built
+  prepared->accel = std::make_shared<const Accel>(prepared->scene);
+  prepared->lights = buildLightSampler(prepared->scene);
+  return prepared;
+}
+
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera) {
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = base.scene;
+  prepared->scene.camera = camera;
+  setCamera(*prepared);
+  prepared->accel = base.accel;
+  prepared->lights = base.lights;
+  return prepared;
+}
+
+SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
+  const Mesh& mesh = scene.meshes[hit.meshId];
+  const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
+  vec3 p0, p1, p2;
+  trianglePositions(mesh, hit.primId, time, p0, p1, p2);
+  const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
+  SurfaceHit s;
+  s.point = b0 * p0 + b1 * p1 + b2 * p2;
+  s.geometricNormal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  s.shadingNormal = s.geometricNormal;
+  if (!mesh.normals.empty()) {
+    const vec3 n = b0 * vertexAtTime(mesh.normals, mesh, idx[0], time) +
+                   b1 * vertexAtTime(mesh.normals, mesh, idx[1], time) +
+                   b2 * vertexAtTime(mesh.normals, mesh, idx[2], time);
+    const float len = glm::length(n);
+    if (len > 1e-6f) {
+      s.shadingNormal = n / len;
+      if (glm::dot(s.shadingNormal, s.geometricNormal) < 0) s.shadingNormal = -s.shadingNormal;
+    }
+  }
+  s.uv = mesh.uvs.empty() ? vec2(0.0f)
+                          : b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
+  s.materialId = mesh.materialIds[hit.primId];
+  return s;
+}
+
+vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
+                   PixelSampler& dimensions, PathCounters& counters) {
+  const Scene& scene = prepared.scene;
+  const Accel& accel = *prepared.accel;
+  const int maxDepth = scene.settings.maxDepth;
+  Ray ray = generateRay(prepared.camera, sample);
+  vec3 radiance(0.0f), throughput(1.0f);
+  bool specularBounce = false;
+  float previousBsdfPdf = 0;
+  vec3 previousPoint = ray.origin;
+
+  for (int depth = 0;; ++depth) {
+    Hit hit;
+    ++counters.rays;
+    if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
+      radiance += throughput * scene.background;  // background is not light-sampled: weight 1
+      break;
+    }
+    const SurfaceHit surface = surfaceAt(scene, hit, ray.time);
+    const Material& material = scene.materials[surface.materialId];
+    const vec3 wo = -ray.direction;
+
+    // Emission, on the counter-clockwise side only, weighted against light sampling.
+    if (material.isEmissive() && glm::dot(wo, surface.geometricNormal) > 0) {
+      float weight = 1.0f;
+      if (depth > 0 && !specularBounce && !prepared.lights.empty()) {
+        const float pl = lightPdf(scene, prepared.lights, hit.meshId, hit.primId, previousPoint,
+                                  surface.point, surface.geometricNormal, ray.time);
+        weight = powerHeuristic(previousBsdfPdf, pl);
+      }
+      radiance += throughput * material.emission * weight;
+    }
+    if (depth >= maxDepth) break;
+
+    const SurfaceBsdf bsdf = makeBsdf(scene, surface);
+
+    // Every bounce owns five dimensions (above), drawn only when used and skipped
+    // otherwise, so each dimension means the same thing in every path of the pixel.
+    const bool nextEvent = !bsdf.isSpecular() && !prepared.lights.empty();
+    if (nextEvent) {
+      const float uLight = dimensions.next1D();
+      const glm::vec2 uLightPoint = dimensions.next2D();
+      LightSample ls;
+      if (sampleLight(scene, prepared.lights, surface.point, ray.time, uLight, uLightPoint, ls)) {
+        const vec3 toLight = ls.point - surface.point;
+        const float dist = glm::length(toLight);
+        const vec3 wi = toLight / dist;
+        const vec3 f = evalBsdfCos(bsdf, wo, wi);
+        if (f.x > 0 || f.y > 0 || f.z > 0) {
+          Ray shadow{offsetOrigin(surface.point, surface.geometricNormal, wi), wi, ray.time};
+          ++counters.rays;
+          if (!accel.occluded(shadow, 0.0f, dist * (1.0f - 1e-3f))) {
+            const float weight = powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
+            radiance += throughput * f * ls.radiance * (weight / ls.pdf);
+          }
+        }
+      }
+    } else {
+      dimensions.skip(2);
+    }
+
+    // Continue the path by sampling the BSDF.
+    const glm::vec2 uBsdf = dimensions.next2D();
+    float uLobe = 0.5f;
+    if (bsdf.type == Material::Type::Dielectric)
+      uLobe = dimensions.next1D();
+    else
+      dimensions.skip(1);
+    BsdfSample bs;
+    if (!sampleBsdf(bsdf, wo, uBsdf, uLobe, bs)) break;
+    throughput *= bs.weight;
+    specularBounce = bs.specular;
+    previousBsdfPdf = bs.pdf;
+    previousPoint = surface.point;
+    ray = Ray{offsetOrigin(surface.point, surface.geometricNormal, bs.wi), bs.wi, ray.time};
+
+    // Russian roulette once the path has a few vertices.
+    if (depth >= 2) {
+      const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
+      if (dimensions.next1D() >= survive) break;
+      throughput /= survive;
+    } else {
+      dimensions.skip(1);
+    }
+  }
+  return radiance;
+}
+
+}  // namespace penumbra

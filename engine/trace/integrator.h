@@ -1,0 +1,55 @@
+// Unidirectional path tracer: next-event estimation on the area lights combined with
+// BSDF sampling by multiple importance sampling (power heuristic), Russian roulette
+// after the third vertex, and a maximum depth (pbrt-v4 convention: 0 = emitters seen
+// directly, 1 = direct lighting, ...). `traceRadiance` is the one entry point every
+// sampler calls: radiance (linear RGB) of the camera sample at a given 5D point.
+#pragma once
+
+#include "scene/lights.h"
+#include "scene/scene.h"
+#include "trace/accel.h"
+#include "trace/sampler.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace penumbra {
+
+// A scene ready to trace: acceleration structure, light sampler and camera frame.
+struct PreparedScene {
+  Scene scene;
+  std::shared_ptr<const Accel> accel;  // shared by the views of one scene (prepareView)
+  LightSampler lights;
+  CameraFrame camera;
+  bool usesLens = false;  // thin lens with a radius
+  bool usesTime = false;  // something moves while the shutter is open
+};
+
+// Builds the BVH and light tables; throws SceneError on an unusable camera.
+std::unique_ptr<PreparedScene> prepareScene(Scene scene);
+// The same scene seen through another camera: shares base's BVH, copies the rest (no
+// rebuild, so a viewer can restart on a camera move at once). Throws SceneError on an
+// unusable camera.
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera);
+
+struct PathCounters {
+  uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays
+};
+
+// Radiance arriving through `sample`; the integrator's own dimensions come from
+// `dimensions` (already started on this pixel sample). May be non-finite on a
+// numerical failure: callers must check before accumulating.
+vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
+                   PixelSampler& dimensions, PathCounters& counters);
+
+// Geometry and material at a hit, at the ray's time.
+struct SurfaceHit {
+  vec3 point;
+  vec3 geometricNormal;  // unit, counter-clockwise side
+  vec3 shadingNormal;    // unit, same side as geometricNormal
+  vec2 uv;
+  uint32_t materialId = 0;
+};
+SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time);
+
+}  // namespace penumbra

@@ -1,0 +1,93 @@
+#include "trace/sampler.h"
+
+namespace penumbra {
+
+namespace {
+// Dimension slots of the camera point; integrator dimensions start after them.
+constexpr uint32_t kImageDim = 0, kLensDim = 1, kTimeDim = 2, kFirstIntegratorDim = 3;
+}  // namespace
+
+uint32_t roundUpPowerOfTwo(uint32_t v) {
+  uint32_t p = 1;
+  while (p < v && p < (1u << 31)) p <<= 1;
+  return p;
+}
+
+void PixelSampler::startSample(int px, int py, uint32_t sampleIndex) {
+  if (!havePixel_ || px != px_ || py != py_) {
+    px_ = px;
+    py_ = py;
+    havePixel_ = true;
+    pixelKey_ = hashValues(seed_, (uint64_t(uint32_t(py)) << 32) | uint32_t(px));
+    cachedCount_ = 0;
+  }
+  sampleIndex_ = sampleIndex;
+  dimension_ = kFirstIntegratorDim;
+  if (kind_ == SamplerKind::Independent) rng_.seedWith(pixelKey_, sampleIndex);
+}
+
+PixelSampler::DimensionKeys PixelSampler::keysFor(uint32_t dimension) const {
+  const uint64_t h = hashValues(pixelKey_, dimension);
+  return {uint32_t(h), uint32_t(h >> 32), uint32_t(mixBits(h))};
+}
+
+const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
+  if (dimension >= kCachedDimensions) return overflow_ = keysFor(dimension);
+  while (cachedCount_ <= dimension) {
+    cache_[cachedCount_] = keysFor(cachedCount_);
+    ++cachedCount_;
+  }
+  return cache_[dimension];
+}
+
+uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
+  const uint32_t block = sampleIndex_ & ~(setSize_ - 1);
+  return block | permuteIndex(sampleIndex_ & (setSize_ - 1), setSize_, k.shuffle);
+}
+
+CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {
+  CameraSample s;
+  if (kind_ == SamplerKind::Independent) {
+    s.imageX = px_ + rng_.nextFloat();
+    s.imageY = py_ + rng_.nextFloat();
+    s.lensU = rng_.nextFloat();
+    s.lensV = rng_.nextFloat();
+    s.time = rng_.nextFloat();
+    return s;
+  }
+  // Each aligned block of setSize samples is a (0,m,2)-net in the image offsets (and in
+  // the lens), whatever the shuffled order inside the block.
+  const DimensionKeys& image = keys(kImageDim);
+  const uint32_t imageIndex = shuffledIndex(image);
+  s.imageX = px_ + vanDerCorput(imageIndex, image.scrambleX);
+  s.imageY = py_ + sobol2(imageIndex, image.scrambleY);
+  if (needLens) {
+    const DimensionKeys& lens = keys(kLensDim);
+    const uint32_t lensIndex = shuffledIndex(lens);
+    s.lensU = vanDerCorput(lensIndex, lens.scrambleX);
+    s.lensV = sobol2(lensIndex, lens.scrambleY);
+  }
+  if (needTime) {
+    const DimensionKeys& time = keys(kTimeDim);
+    s.time = vanDerCorput(shuffledIndex(time), time.scrambleX);
+  }
+  return s;
+}
+
+float PixelSampler::next1D() {
+  if (kind_ == SamplerKind::Independent) return rng_.nextFloat();
+  const DimensionKeys& k = keys(dimension_++);
+  return vanDerCorput(shuffledIndex(k), k.scrambleX);
+}
+
+glm::vec2 PixelSampler::next2D() {
+  if (kind_ == SamplerKind::Independent) {
+    const float a = rng_.nextFloat();
+    return {a, rng_.nextFloat()};
+  }
+  const DimensionKeys& k = keys(dimension_++);
+  const uint32_t index = shuffledIndex(k);
+  return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,105 @@
+// Per-pixel samplers. Every sample is drawn one at a time from (pixel, sample index),
+// so any sampler (including the adaptive ones) can ask for exactly the points it wants.
+//
+// - LowDiscrepancy: per pixel, a scrambled (0,2)-sequence for the image offset, another
+//   for the lens, a scrambled van der Corput sequence for time, and one independently
+//   scrambled (0,2) set per integrator dimension pair (ALGORITHM.md §10.1, after
+//   pbrt-v2's LDPixelSample). The sample order is shuffled per dimension within blocks
+//   of `setSize` (a power of two), so each dimension stays stratified while dimensions
+//   decorrelate; the block structure keeps the sequence extensible past setSize.
+// - Independent: uniform random numbers from a per-(pixel, sample) PCG32 stream.
+#pragma once
+
+#include "core/rng.h"
+#include "scene/camera.h"
+
+#include <glm/vec2.hpp>
+
+#include <array>
+#include <cstdint>
+
+namespace penumbra {
+
+enum class SamplerKind { LowDiscrepancy, Independent };
+
+// Scrambled radical inverses (pbrt-v2 montecarlo.h, VanDerCorput and Sobol2).
+inline float vanDerCorput(uint32_t index, uint32_t scramble) {
+  index = __builtin_bswap32(index);
+  index = ((index & 0x0f0f0f0f) << 4) | ((index & 0xf0f0f0f0) >> 4);
+  index = ((index & 0x33333333) << 2) | ((index & 0xcccccccc) >> 2);
+  index = ((index & 0x55555555) << 1) | ((index & 0xaaaaaaaa) >> 1);
+  return toUnitFloat(index ^ scramble);
+}
+
+inline float sobol2(uint32_t index, uint32_t scramble) {
+  // Branch-free: the bits of a shuffled index are random, so a branch per bit mispredicts.
+  for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
+    scramble ^= (0u - (index & 1u)) & v;
+  return toUnitFloat(scramble);
+}
+
+// Bijection of [0, n) for n a power of two, chosen by `key`: rounds of xor, odd multiply
+// and xor-shift, each invertible modulo 2^k (after Kensler's hashed permutation).
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+  const uint32_t mask = n - 1;
+  i ^= key;
+  i *= 0xe170893du | (key >> 16) | 1u;
+  i ^= (i & mask) >> 3;
+  i ^= key >> 8;
+  i *= 0x0929eb3fu;
+  i ^= (i & mask) >> 2;
+  i *= 0x6935fa69u;
+  i ^= (i & mask) >> 1;
+  return i & mask;
+}
+
+uint32_t roundUpPowerOfTwo(uint32_t v);
+
+// Sample stream of one pixel sample: first the 5D camera point, then the integrator's
+// own dimensions in order via next1D / next2D.
+class PixelSampler {
+ public:
+  PixelSampler(SamplerKind kind, uint64_t seed, uint32_t setSize)
+      : kind_(kind), seed_(seed), setSize_(roundUpPowerOfTwo(setSize < 1 ? 1 : setSize)) {}
+
+  // Starts sample `sampleIndex` of pixel (px, py); resets the dimension counter.
+  void startSample(int px, int py, uint32_t sampleIndex);
+  // The 5D point of the current sample (dimensions 0-4). A pinhole camera needs no lens
+  // sample and a scene without motion no time: those are left at 0.5, not computed.
+  CameraSample cameraSample(bool needLens = true, bool needTime = true);
+  float next1D();
+  glm::vec2 next2D();
+  // Leaves `count` dimensions unused, so the next ones keep their index in every path
+  // (LD dimensions must line up across the samples of a pixel to stay stratified).
+  void skip(uint32_t count) { dimension_ += count; }
+
+  SamplerKind kind() const { return kind_; }
+  uint32_t setSize() const { return setSize_; }
+
+ private:
+  // Per (pixel, dimension): the shuffle key and the scrambles of the two coordinates.
+  struct DimensionKeys {
+    uint32_t shuffle, scrambleX, scrambleY;
+  };
+  static constexpr uint32_t kCachedDimensions = 64;
+  DimensionKeys keysFor(uint32_t dimension) const;
+  const DimensionKeys& keys(uint32_t dimension);
+  uint32_t shuffledIndex(const DimensionKeys& keys) const;
+
+  SamplerKind kind_;
+  uint64_t seed_;
+  uint32_t setSize_;
+  uint64_t pixelKey_ = 0;
+  uint32_t sampleIndex_ = 0;
+  uint32_t dimension_ = 0;
+  int px_ = 0, py_ = 0;
+  bool havePixel_ = false;
+  // Hashing keys is the costly part of an LD sample; they depend only on the pixel and
+  // the dimension, so they are computed once per pixel, on first use.
+  std::array<DimensionKeys, kCachedDimensions> cache_{};
+  uint32_t cachedCount_ = 0;
+  DimensionKeys overflow_{};
+  Pcg32 rng_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,405 @@
+// Tests for engine/image_io: exact float round trips, PNG within 8-bit quantisation, the PFM
+// reader on hand-made files, clean errors on bad input, and atomic (all-or-nothing) writes.
+#include "core/image_io.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
+#include <tinyexr.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Each test works in its own empty directory so leftover-file checks are meaningful.
+std::string freshDir(const std::string& name) {
+  const fs::path dir = test::outputPath("image_io/" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+std::vector<std::string> listDir(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+void writeRaw(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+std::string readRaw(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Values a lossy or clamping path would not preserve: negative, > 1, tiny, huge.
+Image hdrTestImage() {
+  Image image(5, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x)
+      image.at(x, y) = vec3(0.1f * x - 0.2f, 1e-7f * float(y + 1), 1234.5f * float(x * y) + 0.3f);
+  return image;
+}
+
+void expectExactlyEqual(const Image& a, const Image& b) {
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(a.at(x, y)[k], b.at(x, y)[k]) << x << "," << y;
+}
+
+// Expects ImageIoError whose message names `path` and contains `reason`.
+template <typename F>
+void expectIoError(F&& f, const std::string& path, const std::string& reason) {
+  try {
+    f();
+    ADD_FAILURE() << "no ImageIoError for " << path;
+  } catch (const ImageIoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find(reason), std::string::npos) << message;
+  }
+}
+
+TEST(ImageIo, ExrRoundTripIsExact) {
+  const std::string path = freshDir("exr") + "/image.exr";
+  const Image image = hdrTestImage();
+  writeImage(path, image);
+  expectExactlyEqual(readImage(path), image);
+}
+
+TEST(ImageIo, PfmRoundTripIsExact) {
+  const std::string path = freshDir("pfm") + "/image.pfm";
+  const Image image = hdrTestImage();
+  writeImage(path, image);
+  expectExactlyEqual(readImage(path), image);
+  // Little-endian with scale -1, as promised to other tools.
+  EXPECT_EQ(readRaw(path).substr(0, 10), "PF\n5 3\n-1\n");
+}
+
+TEST(ImageIo, ExtensionIsCaseInsensitive) {
+  const std::string path = freshDir("case") + "/image.PfM";
+  const Image image = hdrTestImage();
+  writeImage(path, image);
+  expectExactlyEqual(readImage(path), image);
+}
+
+TEST(ImageIo, PngRoundTripWithinQuantisation) {
+  const std::string path = freshDir("png") + "/image.png";
+  Image image(16, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 16; ++x) image.at(x, y) = vec3(x / 15.0f, y / 3.0f, 0.5f * (x + y) / 18.0f);
+  writeImage(path, image);
+  const Image back = readImage(path);
+  ASSERT_EQ(back.width, 16);
+  ASSERT_EQ(back.height, 4);
+  // 8-bit sRGB rounds to the nearest level: at most half a level off in the encoded domain.
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(linearToSrgb(back.pixels[i][k]), linearToSrgb(image.pixels[i][k]),
+                  0.5f / 255.0f + 1e-5f);
+}
+
+TEST(ImageIo, PngAppliesExposureAndClamps) {
+  const std::string path = freshDir("png_exposure") + "/image.png";
+  Image image(2, 1);
+  image.at(0, 0) = vec3(0.25f);  // one stop up: 0.5
+  image.at(1, 0) = vec3(3.0f);   // clamps to 1
+  writeImage(path, image, 1.0f);
+  const Image back = readImage(path);
+  EXPECT_NEAR(back.at(0, 0).x, 0.5f, 0.005f);
+  EXPECT_FLOAT_EQ(back.at(1, 0).y, 1.0f);
+}
+
+TEST(ImageIo, ReadsRadianceHdrAsLinear) {
+  const std::string path = freshDir("hdr") + "/image.hdr";
+  const float rgb[] = {0.5f, 2.0f, 10.0f, 0.0f, 0.25f, 1.0f};
+  ASSERT_TRUE(stbi_write_hdr(path.c_str(), 2, 1, 3, rgb));
+  const Image image = readImage(path);
+  ASSERT_EQ(image.width, 2);
+  for (int i = 0; i < 6; ++i)  // RGBE keeps about 8 bits of mantissa
+    EXPECT_NEAR(image.pixels[i / 3][i % 3], rgb[i], 0.01f * rgb[i] + 1e-6f);
+}
+
+// Appends a float with its most significant byte first.
+void appendBigEndian(std::string& bytes, float value) {
+  const uint32_t bits = std::bit_cast<uint32_t>(value);
+  for (int shift = 24; shift >= 0; shift -= 8) bytes.push_back(char((bits >> shift) & 0xff));
+}
+
+TEST(ImageIo, ReadsBigEndianGreyscalePfm) {
+  const std::string path = freshDir("pfm_be") + "/grey.pfm";
+  // Positive scale = big-endian; the first row in the file is the bottom of the image.
+  std::string bytes = "Pf\n2 2\n1.0\n";
+  appendBigEndian(bytes, 1.0f);   // bottom-left  (0,1)
+  appendBigEndian(bytes, 2.0f);   // bottom-right (1,1)
+  appendBigEndian(bytes, 3.0f);   // top-left     (0,0)
+  appendBigEndian(bytes, -4.5f);  // top-right    (1,0)
+  writeRaw(path, bytes);
+  const Image image = readImage(path);
+  ASSERT_EQ(image.width, 2);
+  ASSERT_EQ(image.height, 2);
+  EXPECT_EQ(image.at(0, 0), vec3(3.0f));
+  EXPECT_EQ(image.at(1, 0), vec3(-4.5f));
+  EXPECT_EQ(image.at(0, 1), vec3(1.0f));
+  EXPECT_EQ(image.at(1, 1), vec3(2.0f));
+}
+
+TEST(ImageIo, MalformedPfmThrowsNamingTheFile) {
+  const std::string dir = freshDir("pfm_bad");
+  const std::string eightFloats(8 * 4, '\0');
+  const struct {
+    const char* name;
+    std::string bytes;
+    const char* reason;
+  } cases[] = {
+      {"magic.pfm", "P6\n2 2\n255\n" + eightFloats, "not a PFM file"},
+      {"empty.pfm", "", "not a PFM file"},
+      {"noheight.pfm", "PF\n2\n", "malformed PFM header"},
+      {"letters.pfm", "PF\n2x 2\n-1\n" + eightFloats, "malformed PFM header"},
+      {"zero.pfm", "PF\n0 2\n-1\n", "invalid PFM size"},
+      {"negative.pfm", "PF\n2 -2\n-1\n", "invalid PFM size"},
+      {"overflow.pfm", "PF\n99999999999 2\n-1\n", "malformed PFM header"},
+      {"scale.pfm", "PF\n1 1\n0\n" + eightFloats, "non-zero scale"},
+      {"noscale.pfm", "PF\n1 1\n", "non-zero scale"},
+      {"truncated.pfm", "PF\n2 2\n-1\n" + eightFloats.substr(0, 40), "truncated pixel data"},
+      {"nodata.pfm", "PF\n2 2\n-1\n", "truncated pixel data"},
+      // Would be 4.8e19 bytes: must be rejected from the file size, not attempted.
+      {"huge.pfm", "PF\n2000000000 2000000000\n-1\n" + eightFloats, "truncated pixel data"},
+      {"hugegrey.pfm", "Pf\n2147483647 2147483647\n1\n" + eightFloats, "truncated pixel data"},
+  };
+  for (const auto& c : cases) {
+    const std::string path = dir + "/" + c.name;
+    writeRaw(path, c.bytes);
+    expectIoError([&] { readImage(path); }, path, c.reason);
+  }
+}
+
+TEST(ImageIo, MissingFileThrowsNamingTheFile) {
+  const std::string dir = freshDir("missing");
+  for (const char* name : {"a.png", "a.exr", "a.pfm", "a.hdr", "a.JPG"}) {
+    const std::string path = dir + "/" + name;
+    expectIoError([&] { readImage(path); }, path, "cannot open file");
+  }
+  expectIoError([&] { readExrChannels(dir + "/b.exr"); }, dir + "/b.exr", "cannot open file");
+  expectIoError([&] { readImage(dir); }, dir, "");  // a directory is not an image
+}
+
+TEST(ImageIo, CorruptFilesThrowInsteadOfCrashing) {
+  const std::string dir = freshDir("corrupt");
+  const std::string garbage = "this is certainly not an image, but it is long enough to parse";
+  for (const char* name : {"g.png", "g.exr", "g.hdr", "g.jpg", "g.bmp"}) {
+    writeRaw(dir + "/" + name, garbage);
+    expectIoError([&] { readImage(dir + "/" + name); }, dir + "/" + name, "");
+  }
+  // A valid file cut short, as a crashed writer without atomic rename would leave it.
+  writeImage(dir + "/whole.exr", hdrTestImage());
+  writeImage(dir + "/whole.png", hdrTestImage());
+  for (const char* ext : {".exr", ".png"}) {
+    const std::string bytes = readRaw(dir + "/whole" + ext);
+    const std::string cut = dir + "/cut" + ext;
+    writeRaw(cut, bytes.substr(0, bytes.size() / 2));
+    expectIoError([&] { readImage(cut); }, cut, "");
+  }
+  writeRaw(dir + "/g2.exr", garbage);
+  expectIoError([&] { readExrChannels(dir + "/g2.exr"); }, dir + "/g2.exr", "");
+}
+
+TEST(ImageIo, UnsupportedExtensionListsTheSupportedOnes) {
+  const std::string dir = freshDir("ext");
+  const Image image(2, 2);
+  expectIoError([&] { writeImage(dir + "/a.jpg", image); }, dir + "/a.jpg", ".exr, .pfm, .png");
+  expectIoError([&] { writeImage(dir + "/noext", image); }, dir + "/noext", ".exr, .pfm, .png");
+  writeRaw(dir + "/a.gif", "GIF89a");
+  expectIoError([&] { readImage(dir + "/a.gif"); }, dir + "/a.gif", ".pfm");
+  EXPECT_EQ(listDir(dir), std::vector<std::string>{"a.gif"});
+}
+
+TEST(ImageIo, EmptyImageIsNotWritten) {
+  const std::string dir = freshDir("empty");
+  expectIoError([&] { writeImage(dir + "/e.png", Image()); }, dir + "/e.png", "empty image");
+  EXPECT_TRUE(listDir(dir).empty());
+}
+
+TEST(ImageIo, WriteToMissingDirectoryThrowsAndLeavesNoFile) {
+  const std::string dir = freshDir("nodir");
+  const Image image = hdrTestImage();
+  for (const char* name : {"x.png", "x.exr", "x.pfm"}) {
+    const std::string path = dir + "/missing/" + name;
+    expectIoError([&] { writeImage(path, image); }, path, "No such file or directory");
+  }
+  EXPECT_TRUE(listDir(dir).empty());
+}
+
+TEST(ImageIo, WriteWhereTheParentIsAFileThrowsAndLeavesNoFile) {
+  // Unlike a read-only directory, this fails for root too, so CI (as root) checks it.
+  const std::string dir = freshDir("parent_is_file");
+  const std::string blocker = dir + "/blocker";
+  { std::ofstream(blocker) << "x"; }
+  expectIoError([&] { writeImage(blocker + "/x.exr", hdrTestImage()); }, blocker + "/x.exr", "");
+  EXPECT_EQ(listDir(dir), (std::vector<std::string>{"blocker"}));
+}
+
+TEST(ImageIo, AtomicWritesLeaveNoTemporaries) {
+  const std::string dir = freshDir("atomic");
+  const Image image = hdrTestImage();
+  for (int round = 0; round < 2; ++round) {  // the second round replaces existing files
+    writeImage(dir + "/a.exr", image);
+    writeImage(dir + "/a.pfm", image);
+    writeImage(dir + "/a.png", image);
+  }
+  writeExrLayers(dir + "/layers.exr", 1, 1, {{"Y", {1.0f}}});
+  EXPECT_EQ(listDir(dir), (std::vector<std::string>{"a.exr", "a.pfm", "a.png", "layers.exr"}));
+}
+
+TEST(ImageIo, FailedWriteKeepsThePreviousFile) {
+  const std::string dir = freshDir("keep");
+  const std::string path = dir + "/stats.json";
+  writeFileAtomically(path, [](const std::string& tmp) { std::ofstream(tmp) << "old"; });
+  EXPECT_THROW(writeFileAtomically(path,
+                                   [](const std::string& tmp) {
+                                     std::ofstream(tmp) << "half wri";
+                                     throw std::runtime_error("disk full");
+                                   }),
+               std::runtime_error);
+  EXPECT_EQ(readRaw(path), "old");
+  EXPECT_EQ(listDir(dir), std::vector<std::string>{"stats.json"});
+  // The target exists only once the writer has finished.
+  writeFileAtomically(dir + "/new.json", [&](const std::string& tmp) {
+    EXPECT_FALSE(fs::exists(dir + "/new.json"));
+    EXPECT_EQ(fs::path(tmp).parent_path(), fs::path(dir));
+    std::ofstream(tmp) << "new";
+  });
+  EXPECT_EQ(readRaw(dir + "/new.json"), "new");
+}
+
+TEST(ImageIo, ExrLayersRoundTrip) {
+  const std::string path = freshDir("layers") + "/render.exr";
+  const int width = 3, height = 2;
+  std::vector<ExrChannel> channels;
+  // Deliberately unsorted: the writer must sort them as EXR requires.
+  for (const char* name : {"R", "G", "B", "variance.R", "variance.G", "variance.B", "A"}) {
+    std::vector<float> values(width * height);
+    for (size_t i = 0; i < values.size(); ++i)
+      values[i] = float(name[0]) * 0.01f + float(i) * 0.37f - float(std::strlen(name));
+    channels.emplace_back(name, values);
+  }
+  writeExrLayers(path, width, height, channels);
+
+  const std::vector<ExrChannel> back = readExrChannels(path);
+  ASSERT_EQ(back.size(), channels.size());
+  std::map<std::string, std::vector<float>> byName(back.begin(), back.end());
+  for (const auto& [name, values] : channels) EXPECT_EQ(byName[name], values) << name;
+  for (size_t i = 1; i < back.size(); ++i) EXPECT_LT(back[i - 1].first, back[i].first);
+
+  // The plain reader sees the colour channels of the same file.
+  const Image colour = readImage(path);
+  ASSERT_EQ(colour.width, width);
+  EXPECT_EQ(colour.at(2, 1).x, byName["R"][5]);
+  EXPECT_EQ(colour.at(2, 1).z, byName["B"][5]);
+}
+
+TEST(ImageIo, ReadExrChannelsConvertsHalfToFloat) {
+  const std::string path = freshDir("half") + "/half.exr";
+  const float rgb[] = {0.5f, 1.25f, -3.0f, 1024.0f, 0.0f, 0.125f};  // exact in half precision
+  ASSERT_EQ(SaveEXR(rgb, 2, 1, 3, /*save_as_fp16=*/1, path.c_str(), nullptr), TINYEXR_SUCCESS);
+  std::map<std::string, std::vector<float>> byName;
+  for (auto& [name, values] : readExrChannels(path)) byName[name] = values;
+  EXPECT_EQ(byName["R"], (std::vector<float>{0.5f, 1024.0f}));
+  EXPECT_EQ(byName["G"], (std::vector<float>{1.25f, 0.0f}));
+  EXPECT_EQ(byName["B"], (std::vector<float>{-3.0f, 0.125f}));
+}
+
+// Tiled EXRs (as some compositors write) come back as tiles; the reader must reassemble them,
+// including the partial tiles at the right and bottom edges. Pixel (x, y) holds 10 y + x.
+TEST(ImageIo, ReadExrChannelsReassemblesTiles) {
+  const std::string path = freshDir("tiled") + "/tiled.exr";
+  const int width = 5, height = 3, tileSize = 2;
+  EXRHeader header;
+  InitEXRHeader(&header);
+  EXRChannelInfo channel{};
+  std::strcpy(channel.name, "Y");
+  int pixelType = TINYEXR_PIXELTYPE_FLOAT;
+  header.num_channels = 1;
+  header.channels = &channel;
+  header.pixel_types = header.requested_pixel_types = &pixelType;
+  header.compression_type = TINYEXR_COMPRESSIONTYPE_NONE;
+  header.tiled = 1;
+  header.tile_size_x = header.tile_size_y = tileSize;
+  header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
+  header.data_window = {0, 0, width - 1, height - 1};
+  header.display_window = header.data_window;
+
+  const int tilesX = 3, tilesY = 2;
+  std::vector<std::vector<float>> tileData(tilesX * tilesY,
+                                           std::vector<float>(tileSize * tileSize, 0.0f));
+  std::vector<unsigned char*> tilePlanes(tileData.size());
+  std::vector<EXRTile> tiles(tileData.size());
+  for (int ty = 0; ty < tilesY; ++ty) {
+    for (int tx = 0; tx < tilesX; ++tx) {
+      const int i = ty * tilesX + tx;
+      EXRTile& tile = tiles[i];
+      tile = EXRTile{};
+      tile.offset_x = tx;  // in tiles, not pixels
+      tile.offset_y = ty;
+      tile.width = std::min(tileSize, width - tx * tileSize);
+      tile.height = std::min(tileSize, height - ty * tileSize);
+      for (int j = 0; j < tile.height; ++j)
+        for (int k = 0; k < tile.width; ++k)
+          tileData[i][j * tileSize + k] = float(10 * (ty * tileSize + j) + tx * tileSize + k);
+      tilePlanes[i] = reinterpret_cast<unsigned char*>(tileData[i].data());
+      tile.images = &tilePlanes[i];
+    }
+  }
+  EXRImage image;
+  InitEXRImage(&image);
+  image.tiles = tiles.data();
+  image.num_tiles = int(tiles.size());
+  image.width = width;
+  image.height = height;
+  image.num_channels = 1;
+  ASSERT_EQ(SaveEXRImageToFile(&image, &header, path.c_str(), nullptr), TINYEXR_SUCCESS);
+
+  const std::vector<ExrChannel> channels = readExrChannels(path);
+  ASSERT_EQ(channels.size(), 1u);
+  EXPECT_EQ(channels[0].first, "Y");
+  std::vector<float> expected;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) expected.push_back(float(10 * y + x));
+  EXPECT_EQ(channels[0].second, expected);
+}
+
+TEST(ImageIo, ExrLayersRejectsBadChannels) {
+  const std::string dir = freshDir("layers_bad");
+  const std::string path = dir + "/bad.exr";
+  expectIoError([&] { writeExrLayers(path, 2, 1, {{"R", {1.0f}}}); }, path, "expected 2");
+  expectIoError(
+      [&] {
+        writeExrLayers(path, 1, 1, {{"R", {1.0f}}, {"R", {2.0f}}});
+      },
+      path, "duplicate");
+  expectIoError([&] { writeExrLayers(path, 1, 1, {{"", {1.0f}}}); }, path, "channel name");
+  expectIoError([&] { writeExrLayers(path, 1, 1, {}); }, path, "without channels");
+  EXPECT_TRUE(listDir(dir).empty());
+}
+
+}  // namespace
+}  // namespace penumbra

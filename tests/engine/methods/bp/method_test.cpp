@@ -1,0 +1,372 @@
+// The BP method as a whole: budget, determinism, bounded memory, the bias of edge and flat
+// pixels, and its building blocks (slot allocation, bias, network inputs).
+#include "methods/bp/method.h"
+
+#include "methods/render.h"
+#include "scene/scene_loader.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numeric>
+
+namespace penumbra {
+namespace {
+
+std::unique_ptr<PreparedScene> loadScaled(const std::string& name, int size) {
+  return test::shippedScene(name, size);
+}
+
+std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
+  while (!method.done()) method.runRound(nullptr);
+  return method.snapshot();
+}
+
+TEST(BpAllocate, SpendsTheBudgetExactlyInPriorityOrder) {
+  const std::vector<uint32_t> order = {5, 2, 7};
+  // 10 slots, 4 per pixel: pixel 5 gets 4, pixel 2 gets 4, pixel 7 the remaining 2.
+  auto slots = bp::allocateSlots(order, 8, 10, 4);
+  EXPECT_EQ(slots[5], 4u);
+  EXPECT_EQ(slots[2], 4u);
+  EXPECT_EQ(slots[7], 2u);
+  EXPECT_EQ(std::accumulate(slots.begin(), slots.end(), 0u), 10u);
+  // 29 slots over 3 pixels: two full passes (24), then 4 + 1 in order.
+  slots = bp::allocateSlots(order, 8, 29, 4);
+  EXPECT_EQ(slots[5], 12u);
+  EXPECT_EQ(slots[2], 9u);
+  EXPECT_EQ(slots[7], 8u);
+  EXPECT_EQ(std::accumulate(slots.begin(), slots.end(), 0u), 29u);
+  EXPECT_EQ(std::accumulate(slots.begin(), slots.end(), 0u) - slots[5] - slots[2] - slots[7], 0u);
+  slots = bp::allocateSlots({}, 8, 29, 4);
+  EXPECT_EQ(std::accumulate(slots.begin(), slots.end(), 0u), 0u);
+}
+
+TEST(BpBias, MatchesEquation13WithTheRegulariser) {
+  // |0.6-0.5| + |0.2-0.2| + |0.1-0.3| = 0.3; sum I = 1.0; 0.3 / (1.0 + 0.02).
+  EXPECT_NEAR(bp::biasOf({0.6f, 0.2f, 0.1f}, {0.5f, 0.2f, 0.3f}, 0.02f), 0.3f / 1.02f, 1e-6f);
+  // An all-black pixel has no bias whatever the prediction [A13].
+  EXPECT_EQ(bp::biasOf({0.3f, 0.3f, 0.3f}, vec3(0.0f), 0.02f), 0.0f);
+  // A dark pixel is held back by eps: 0.03 / (0.003 + 0.02).
+  EXPECT_NEAR(bp::biasOf(vec3(0.011f), vec3(0.001f), 0.02f), 0.03f / 0.023f, 1e-4f);
+}
+
+TEST(BpInputs, FourAndFiveInputForms) {
+  float x[kMaxNetInputs];
+  bp::networkInputs(5, -0.25f, 0.5f, 0.1f, 0.2f, 0.3f, x);
+  EXPECT_FLOAT_EQ(x[0], -0.5f);
+  EXPECT_FLOAT_EQ(x[1], 1.0f);
+  EXPECT_FLOAT_EQ(x[4], 0.3f);
+  // Radius of the corner (0.5, 0.5) scaled by sqrt 2 is 1.
+  bp::networkInputs(4, 0.5f, -0.5f, 0.1f, 0.2f, 0.3f, x);
+  EXPECT_NEAR(x[0], 1.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(x[1], 0.1f);
+  EXPECT_FLOAT_EQ(x[3], 0.3f);
+  EXPECT_FLOAT_EQ(x[4], 0.0f);
+}
+
+TEST(BpPrediction, PointsAreInTheUnitCubeAndDistinct) {
+  std::vector<float> uvt(8 * 3);
+  bp::predictionPoints(8, 1234, uvt.data());
+  for (float v : uvt) {
+    EXPECT_GE(v, 0.0f);
+    EXPECT_LT(v, 1.0f);
+  }
+  for (int i = 0; i < 8; ++i)
+    for (int j = i + 1; j < 8; ++j) EXPECT_NE(uvt[3 * i], uvt[3 * j]);
+  std::vector<float> other(8 * 3);
+  bp::predictionPoints(8, 1235, other.data());
+  EXPECT_NE(uvt, other);
+}
+
+// Trains a network on samples of `radiance(dx, dy)` spread over the pixel and returns the
+// bias of eq. 13 at the pixel centre, as the method computes it.
+struct TrainedPixel {
+  float bias, er;
+};
+TrainedPixel trainedBias(int inputs, float (*radiance)(float, float), uint64_t seed,
+                         float errorThreshold) {
+  NetworkConfig config;
+  config.inputs = inputs;
+  config.epochs = 400;
+  config.errorThreshold = errorThreshold;
+  PixelNet net;
+  initNetwork(net, config, seed);
+  std::vector<float> x, targets;
+  vec3 mean(0.0f);
+  const int n = 16;
+  for (int i = 0; i < n; ++i) {
+    // A stratified 4 x 4 grid of offsets with jitter from a fixed pattern.
+    const float dx = ((i % 4) + 0.5f + 0.3f * std::sin(float(i))) / 4.0f - 0.5f;
+    const float dy = ((i / 4) + 0.5f + 0.3f * std::cos(float(i))) / 4.0f - 0.5f;
+    float in[kMaxNetInputs];
+    bp::networkInputs(inputs, dx, dy, 0.5f, 0.5f, 0.5f, in);
+    x.insert(x.end(), in, in + kMaxNetInputs);
+    const float t = radiance(dx, dy);
+    targets.insert(targets.end(), {t, t, t});
+    mean += vec3(t);
+  }
+  mean /= float(n);
+  trainNetworkScalar(config, net, x.data(), targets.data(), n);
+  float centre[kMaxNetInputs];
+  bp::networkInputs(inputs, 0, 0, 0.5f, 0.5f, 0.5f, centre);
+  return {bp::biasOf(predict(net, config, centre), mean, 0.02f), net.er};
+}
+
+TEST(BpBias, HardEdgeIsDifficultAndAFlatPixelIsNot) {
+  const float psi = BpConfig{}.psi;
+  // An edge at dx = 0.25: the centre lies on the bright side while only 3/4 of the pixel
+  // is bright, so I' ~ 0.8 and the mean ~ 0.6 (tone-mapped targets 0.8 and 0.0).
+  auto edge = [](float dx, float) { return dx < 0.25f ? 0.8f : 0.0f; };
+  // A dark disc around the centre (radius 0.3) in a bright pixel: the 4-input form sees it.
+  auto disc = [](float dx, float dy) { return dx * dx + dy * dy < 0.09f ? 0.05f : 0.7f; };
+  // Flat with a little noise.
+  auto flat = [](float dx, float dy) { return 0.5f + 0.01f * std::sin(37.0f * dx + 11.0f * dy); };
+  // Trained to convergence (no early stop), bias tells the edge from the flat pixel.
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    EXPECT_GT(trainedBias(5, edge, seed, 0.0f).bias, psi) << seed;
+    EXPECT_GT(trainedBias(4, disc, seed, 0.0f).bias, psi) << seed;
+    EXPECT_LT(trainedBias(5, flat, seed, 0.0f).bias, psi) << seed;
+    EXPECT_LT(trainedBias(4, flat, seed, 0.0f).bias, psi) << seed;
+  }
+  // With the default early stop at er < e the flat pixel's training may end before its
+  // bias is small, but then er <= e marks it converged: difficult = bias > Psi and er > e.
+  const float e = NetworkConfig{}.errorThreshold;
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    const TrainedPixel hard = trainedBias(5, edge, seed, e);
+    EXPECT_TRUE(hard.bias > psi && hard.er > e) << seed;
+    const TrainedPixel easy = trainedBias(5, flat, seed, e);
+    EXPECT_FALSE(easy.bias > psi && easy.er > e) << seed;
+  }
+}
+
+TEST(BpMethod, SpendsTheSampleBudgetExactly) {
+  auto prepared = loadScaled("cornell", 24);
+  for (int spp : {8, 16, 13}) {
+    BpConfig config;
+    config.spp = spp;
+    config.seed = 5;
+    auto method = makeBpMethod(*prepared, config);
+    const auto snap = runToEnd(*method);
+    const uint64_t pixels = 24 * 24;
+    ASSERT_EQ(snap->nonFiniteSamples, 0u);
+    EXPECT_EQ(snap->keptSamples, uint64_t(spp) * pixels) << spp;
+    EXPECT_EQ(std::accumulate(snap->keptCount.begin(), snap->keptCount.end(), uint64_t(0)),
+              uint64_t(spp) * pixels);
+    // Traced mode traces N_candi candidates per adaptive sample in a non-empty slice.
+    EXPECT_GT(snap->tracedSamples, snap->keptSamples);
+    EXPECT_LE(snap->tracedSamples, uint64_t(config.effectiveCoarseSpp()) * pixels +
+                                       uint64_t(spp - config.effectiveCoarseSpp()) * pixels * 4);
+    EXPECT_LE(snap->round, config.maxRounds + 1);
+    for (size_t p = 0; p < pixels; ++p) EXPECT_GE(snap->tracedCount[p], snap->keptCount[p]);
+  }
+}
+
+TEST(BpMethod, PredictedCandidatesTraceOneRayPerSampleAndCountRejections) {
+  auto prepared = loadScaled("cornell", 20);
+  BpConfig config;
+  config.spp = 16;
+  config.candidateMode = CandidateMode::Predicted;
+  auto method = makeBpMethod(*prepared, config);
+  const auto snap = runToEnd(*method);
+  const uint64_t pixels = 20 * 20;
+  // Every traced sample is either kept or rejected as an outlier.
+  EXPECT_EQ(snap->tracedSamples, snap->keptSamples + snap->rejectedSamples);
+  // Make-up rounds spend what rejections left, unless 2 x rounds were not enough.
+  EXPECT_LE(snap->keptSamples, 16 * pixels);
+  EXPECT_GT(snap->keptSamples, 15 * pixels);
+}
+
+TEST(BpMethod, SameSeedGivesTheSameImageWhateverTheThreadCount) {
+  auto prepared = loadScaled("balls", 32);
+  BpConfig config;
+  config.spp = 8;
+  config.seed = 11;
+  std::shared_ptr<Snapshot> one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    auto method = makeBpMethod(*prepared, config);
+    one = runToEnd(*method);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    auto method = makeBpMethod(*prepared, config);
+    two = runToEnd(*method);
+  }
+  EXPECT_EQ(one->raw.pixels, two->raw.pixels);
+  EXPECT_EQ(one->reconstructed.pixels, two->reconstructed.pixels);
+  EXPECT_EQ(one->bias, two->bias);
+  EXPECT_EQ(one->keptCount, two->keptCount);
+  EXPECT_EQ(one->rays, two->rays);
+  config.seed = 12;
+  auto other = makeBpMethod(*prepared, config);
+  EXPECT_NE(runToEnd(*other)->raw.pixels, one->raw.pixels);
+}
+
+TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
+  auto prepared = loadScaled("tire", 48);
+  BpConfig config;
+  config.spp = 16;
+  config.maxRounds = 16;  // a round's budget (0.75 spp) covers only some pixels
+  auto method = makeBpMethod(*prepared, config);
+  method->runRound(nullptr);
+  const auto coarse = method->snapshot();
+  method->runRound(nullptr);
+  const auto next = method->snapshot();
+  const float e = config.network.errorThreshold;
+  size_t difficult = 0, selected = 0;
+  float lowestSelectedBias = 1e30f;
+  for (size_t p = 0; p < coarse->bias.size(); ++p) {
+    const bool hard = coarse->bias[p] > config.psi && coarse->networkError[p] > e;
+    difficult += hard;
+    if (next->selected[p]) {
+      ++selected;
+      lowestSelectedBias = std::min(lowestSelectedBias, coarse->bias[p]);
+    }
+  }
+  ASSERT_GT(difficult, 0u);
+  ASSERT_GT(selected, 0u);
+  ASSERT_LT(selected, coarse->bias.size());
+  for (size_t p = 0; p < coarse->bias.size(); ++p) {
+    const bool hard = coarse->bias[p] > config.psi && coarse->networkError[p] > e;
+    if (selected <= difficult) {
+      // Only difficult pixels were sampled, and none left out has a higher bias.
+      if (next->selected[p]) EXPECT_TRUE(hard) << p;
+      if (hard && !next->selected[p]) EXPECT_LE(coarse->bias[p], lowestSelectedBias) << p;
+    } else {
+      EXPECT_TRUE(!hard || next->selected[p]) << p;  // every difficult pixel was sampled
+    }
+    // Each sampled pixel got S^2 = 4 samples, but the last one may get the remainder.
+    if (next->selected[p]) EXPECT_LE(next->keptCount[p] - coarse->keptCount[p], 4u);
+  }
+}
+
+TEST(BpMethod, OpenEndedMemoryStaysFlat) {
+  auto prepared = loadScaled("cornell", 16);
+  BpConfig config;
+  config.openEnded = true;
+  config.roundSpp = 4;
+  config.reservoir = 12;
+  config.network.epochs = 5;
+  auto method = makeBpMethod(*prepared, config);
+  size_t atFive = 0;
+  for (int round = 0; round < 16; ++round) {
+    method->runRound(nullptr);
+    if (round == 5) atFive = method->memoryBytes();
+  }
+  EXPECT_FALSE(method->done());
+  const auto snap = method->snapshot();
+  // 4 + 15 x 4 = 64 kept spp on average, over five times the reservoir.
+  EXPECT_EQ(snap->keptSamples, 64u * 16 * 16);
+  EXPECT_EQ(method->memoryBytes(), atFive);
+}
+
+TEST(BpMethod, OpenEndedStopsAtMaxSpp) {
+  auto prepared = loadScaled("cornell", 8);
+  BpConfig config;
+  config.openEnded = true;
+  config.roundSpp = 3;
+  config.maxSpp = 10;
+  auto method = makeBpMethod(*prepared, config);
+  const auto snap = runToEnd(*method);
+  EXPECT_EQ(snap->keptSamples, 10u * 64);
+}
+
+TEST(BpMethod, RejectsABadConfigurationWithTheFlagName) {
+  auto prepared = loadScaled("cornell", 8);
+  BpConfig config;
+  config.filter.phi = {0.3f};
+  try {
+    makeBpMethod(*prepared, config);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--phi"), std::string::npos);
+  }
+  config = BpConfig{};
+  config.reservoir = 2;
+  EXPECT_THROW(makeBpMethod(*prepared, config), std::invalid_argument);
+}
+
+TEST(BpPreset, TunedChangesOnlyItsFourSettingsAndPaperRestoresThem) {
+  BpConfig config;
+  config.network.epochs = 17;  // not part of any preset: kept
+  applyBpPreset(config, BpPreset::Tuned);
+  EXPECT_FALSE(config.outlierRemoval);
+  EXPECT_FALSE(config.warping);
+  EXPECT_FALSE(config.stratifiedMean);
+  EXPECT_FLOAT_EQ(config.filter.sigmaC, 0.05f);
+  EXPECT_EQ(config.network.epochs, 17);
+  EXPECT_EQ(config.candidates, BpConfig{}.candidates);
+  applyBpPreset(config, BpPreset::Paper);
+  const BpConfig paper;
+  EXPECT_EQ(config.outlierRemoval, paper.outlierRemoval);
+  EXPECT_EQ(config.warping, paper.warping);
+  EXPECT_EQ(config.stratifiedMean, paper.stratifiedMean);
+  EXPECT_FLOAT_EQ(config.filter.sigmaC, paper.filter.sigmaC);
+  EXPECT_STREQ(toString(BpPreset::Tuned), "tuned");
+}
+
+TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
+  auto prepared = loadScaled("cornell", 12);
+  BpConfig config;
+  config.spp = 8;
+  config.seed = 5;
+  applyBpPreset(config, BpPreset::Tuned);
+  auto method = makeBpMethod(*prepared, config);
+  const auto snap = runToEnd(*method);
+  EXPECT_EQ(snap->keptSamples, 8u * 12 * 12);
+  EXPECT_EQ(snap->tracedSamples, snap->keptSamples);  // no candidates traced and dropped
+}
+
+TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
+  auto prepared = loadScaled("cornell", 12);
+  BpConfig config;
+  config.spp = 16;
+  config.seed = 2;
+  config.network.epochs = 10;
+  auto method = makeBpMethod(*prepared, config);
+  EXPECT_FALSE(method->inspect(3, 4).valid);  // nothing before the coarse pass
+  method->setInspectedPixel(3, 4);
+  method->runRound(nullptr);
+  PixelInspection coarse = method->inspect(3, 4);
+  ASSERT_TRUE(coarse.valid);
+  EXPECT_EQ(coarse.kept, 4u);
+  EXPECT_EQ(coarse.samples.size(), 4u);
+  EXPECT_NE(coarse.reason.find("coarse"), std::string::npos);
+  // Find a round in which the inspected pixel got samples; its candidates are recorded.
+  PixelInspection in;
+  while (!method->done()) {
+    method->runRound(nullptr);
+    in = method->inspect(3, 4);
+    if (in.addedLastRound > 0) break;
+  }
+  ASSERT_GT(in.addedLastRound, 0u) << "the pixel never got samples";
+  const auto snap = method->snapshot();
+  const size_t p = 4 * 12 + 3;
+  EXPECT_EQ(in.kept, snap->keptCount[p]);
+  EXPECT_FLOAT_EQ(in.bias, snap->bias[p]);
+  EXPECT_EQ(in.sliceB, snap->sliceB[p]);
+  EXPECT_EQ(in.slices.size(), 4u);
+  uint32_t sliceTotal = 0;
+  for (const InspectedSlice& s : in.slices) sliceTotal += s.count;
+  EXPECT_EQ(sliceTotal, in.kept);
+  for (const InspectedSample& s : in.samples) {
+    EXPECT_GE(s.ox, 0.0f);
+    EXPECT_LT(s.ox, 1.0f);
+    EXPECT_EQ(s.slice, sliceOf(s.ox, s.oy, 2));
+  }
+  // Traced mode: N_candi candidates per new sample, exactly one kept per sample added.
+  size_t keptCandidates = 0;
+  for (const InspectedCandidate& c : in.candidates) keptCandidates += c.kept;
+  EXPECT_EQ(keptCandidates, in.addedLastRound);
+  EXPECT_GE(in.candidates.size(), in.addedLastRound);
+  EXPECT_GE(in.rank, 0);
+  EXPECT_NE(in.reason.find("rank"), std::string::npos);
+  // Another pixel: no candidates recorded for it.
+  EXPECT_TRUE(method->inspect(0, 0).candidates.empty());
+  EXPECT_FALSE(method->inspect(12, 0).valid);
+}
+
+}  // namespace
+}  // namespace penumbra

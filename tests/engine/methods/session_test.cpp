@@ -1,0 +1,143 @@
+// RenderSession: rounds on a worker thread, snapshots after each round, and the controls
+// a viewer needs (pause, step, resume, cancel, restart), without the caller ever waiting.
+#include "methods/session.h"
+
+#include "methods/bp/method.h"
+#include "scene/scene_loader.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+namespace penumbra {
+namespace {
+
+std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("cornell", size); }
+
+RenderSession::MethodFactory bpFactory(std::shared_ptr<PreparedScene> scene, int spp,
+                                       bool openEnded = false) {
+  return [scene, spp, openEnded] {
+    BpConfig config;
+    config.spp = spp;
+    config.openEnded = openEnded;
+    config.roundSpp = 2;
+    config.network.epochs = 10;
+    return makeBpMethod(*scene, config);
+  };
+}
+
+TEST(Session, RunsToTheEndAndPublishesTheFinalSnapshot) {
+  RenderSession session(2);
+  EXPECT_EQ(session.latest(), nullptr);
+  session.start(bpFactory(cornell(16), 8));
+  ASSERT_TRUE(session.wait(120));
+  EXPECT_EQ(session.state(), RenderSession::State::Finished);
+  const auto snap = session.latest();
+  ASSERT_NE(snap, nullptr);
+  EXPECT_TRUE(snap->final);
+  EXPECT_EQ(snap->keptSamples, 8u * 16 * 16);
+  EXPECT_EQ(uint64_t(snap->round), session.version());
+}
+
+TEST(Session, StepRunsOneRoundThenPauses) {
+  RenderSession session(1);
+  session.start(bpFactory(cornell(12), 0, true));
+  session.pause();
+  ASSERT_TRUE(session.wait(60));
+  EXPECT_EQ(session.state(), RenderSession::State::Paused);
+  const uint64_t before = session.version();
+  const int roundBefore = session.latest() ? session.latest()->round : 0;
+  session.step();
+  ASSERT_TRUE(session.wait(60));
+  EXPECT_EQ(session.state(), RenderSession::State::Paused);
+  EXPECT_EQ(session.version(), before + 1);
+  EXPECT_EQ(session.latest()->round, roundBefore + 1);
+  // Paused means paused: nothing is published meanwhile.
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(session.version(), before + 1);
+  session.resume();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (session.version() < before + 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_GE(session.version(), before + 3);
+  session.cancel();
+  EXPECT_EQ(session.state(), RenderSession::State::Cancelled);
+}
+
+TEST(Session, RestartDropsTheOldMethodAndStartsFromTheCoarsePass) {
+  RenderSession session(2);
+  auto scene = cornell(16);
+  session.start(bpFactory(scene, 0, true));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while ((!session.latest() || session.latest()->round < 3) &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_GE(session.latest()->round, 3);
+  session.restart(bpFactory(scene, 4));
+  ASSERT_TRUE(session.wait(60));
+  EXPECT_EQ(session.state(), RenderSession::State::Finished);
+  // 4 spp is all coarse pass: one round.
+  EXPECT_EQ(session.latest()->round, 1);
+  EXPECT_EQ(session.latest()->keptSamples, 4u * 16 * 16);
+}
+
+TEST(Session, CancelReturnsAtOnceAndTheDestructorJoins) {
+  auto scene = cornell(64);
+  const auto start = std::chrono::steady_clock::now();
+  {
+    RenderSession session(2);
+    session.start(bpFactory(scene, 0, true));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    session.cancel();
+    EXPECT_EQ(session.state(), RenderSession::State::Cancelled);
+    EXPECT_TRUE(session.wait(0));
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30);
+}
+
+TEST(Session, AFailingMethodReportsItsError) {
+  RenderSession session(1);
+  auto scene = cornell(8);
+  session.start([scene] {
+    BpConfig config;
+    config.slicesPerSide = 9;
+    return makeBpMethod(*scene, config);
+  });
+  ASSERT_TRUE(session.wait(30));
+  EXPECT_EQ(session.state(), RenderSession::State::Failed);
+  EXPECT_NE(session.error().find("--slices"), std::string::npos);
+}
+
+TEST(Session, InspectsAPixelAfterRoundsAndWhilePaused) {
+  RenderSession session(2);
+  session.inspect(2, 3);
+  session.start(bpFactory(cornell(8), 0, true));
+  session.pause();
+  ASSERT_TRUE(session.wait(60));
+  session.step();
+  ASSERT_TRUE(session.wait(60));
+  // Taken after the round that ran.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!session.inspection() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_NE(session.inspection(), nullptr);
+  EXPECT_EQ(session.inspection()->x, 2);
+  EXPECT_EQ(session.inspection()->y, 3);
+  // While paused, a new pixel is inspected without running a round.
+  const uint64_t version = session.version();
+  const uint64_t inspections = session.inspectionVersion();
+  session.inspect(5, 1);
+  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (session.inspectionVersion() == inspections && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_NE(session.inspection(), nullptr);
+  EXPECT_EQ(session.inspection()->x, 5);
+  EXPECT_TRUE(session.inspection()->valid);
+  EXPECT_EQ(session.version(), version);
+  EXPECT_EQ(session.state(), RenderSession::State::Paused);
+}
+
+}  // namespace
+}  // namespace penumbra

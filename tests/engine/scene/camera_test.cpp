@@ -1,0 +1,95 @@
+// Camera tests: pinhole rays start at the eye; thin-lens rays through one film point
+// meet on the focus plane; the shutter maps sample time to scene time.
+#include "scene/camera.h"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+namespace penumbra {
+namespace {
+
+Camera testCamera() {
+  Camera c;
+  c.eye = vec3(1, 2, 3);
+  c.lookAt = vec3(0, 0, -2);
+  c.up = vec3(0, 1, 0);
+  c.vfovDegrees = 50;
+  return c;
+}
+
+TEST(Camera, PinholeRaysStartAtTheEyeAndCentreLooksForward) {
+  const Camera c = testCamera();
+  const CameraFrame f = makeCameraFrame(c, 64, 48);
+  for (float lu : {0.1f, 0.5f, 0.9f}) {
+    CameraSample s{12.3f, 40.1f, lu, 1 - lu, 0.3f};
+    const Ray r = generateRay(f, s);
+    EXPECT_NEAR(glm::length(r.origin - c.eye), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(r.direction), 1.0f, 1e-5f);
+  }
+  const Ray centre = generateRay(f, CameraSample{32, 24, 0.3f, 0.7f, 0});
+  EXPECT_NEAR(glm::length(centre.direction - glm::normalize(c.lookAt - c.eye)), 0.0f, 1e-5f);
+  // The top edge of the image is half the vertical fov above the view axis.
+  const Ray top = generateRay(f, CameraSample{32, 0, 0.5f, 0.5f, 0});
+  EXPECT_NEAR(glm::degrees(std::acos(glm::dot(top.direction, centre.direction))), 25.0f, 1e-3f);
+  EXPECT_GT(glm::dot(top.direction, f.upAxis), 0.0f);
+}
+
+TEST(Camera, ThinLensRaysConvergeOnTheFocusPlane) {
+  Camera c = testCamera();
+  c.lensRadius = 0.2f;
+  c.focusDistance = 4.0f;
+  const CameraFrame f = makeCameraFrame(c, 64, 64);
+  for (auto [x, y] : {std::pair{5.5f, 7.25f}, std::pair{32.0f, 32.0f}, std::pair{60.0f, 2.0f}}) {
+    vec3 meeting(0.0f);
+    bool first = true;
+    float spread = 0;
+    for (float u : {0.05f, 0.3f, 0.6f, 0.95f})
+      for (float v : {0.1f, 0.5f, 0.9f}) {
+        const Ray r = generateRay(f, CameraSample{x, y, u, v, 0});
+        // Advance to the plane at distance focusDistance along the view axis.
+        const float t = (c.focusDistance - glm::dot(r.origin - c.eye, f.forward)) /
+                        glm::dot(r.direction, f.forward);
+        const vec3 p = r.origin + t * r.direction;
+        if (first) meeting = p, first = false;
+        spread = std::max(spread, glm::length(p - meeting));
+        EXPECT_LE(glm::length(r.origin - c.eye), c.lensRadius + 1e-5f);
+      }
+    EXPECT_LT(spread, 1e-4f) << "film point " << x << "," << y;
+  }
+  // Points off the focus plane are blurred: rays spread at half the focus distance.
+  const Ray a = generateRay(f, CameraSample{32, 32, 0.05f, 0.5f, 0});
+  const Ray b = generateRay(f, CameraSample{32, 32, 0.95f, 0.5f, 0});
+  const vec3 pa = a.origin + 2.0f / glm::dot(a.direction, f.forward) * a.direction;
+  const vec3 pb = b.origin + 2.0f / glm::dot(b.direction, f.forward) * b.direction;
+  EXPECT_GT(glm::length(pa - pb), 0.1f);
+}
+
+TEST(Camera, FocusDistanceDefaultsToLookAt) {
+  Camera c = testCamera();
+  c.lensRadius = 0.5f;
+  const CameraFrame f = makeCameraFrame(c, 32, 32);
+  EXPECT_NEAR(f.focusDistance, glm::length(c.lookAt - c.eye), 1e-5f);
+}
+
+TEST(Camera, ShutterMapsSampleTimeToSceneTime) {
+  Camera c = testCamera();
+  c.shutterOpen = 0.25f;
+  c.shutterClose = 0.75f;
+  const CameraFrame f = makeCameraFrame(c, 8, 8);
+  EXPECT_FLOAT_EQ(generateRay(f, CameraSample{4, 4, 0.5f, 0.5f, 0.0f}).time, 0.25f);
+  EXPECT_FLOAT_EQ(generateRay(f, CameraSample{4, 4, 0.5f, 0.5f, 0.5f}).time, 0.5f);
+}
+
+TEST(Camera, DegenerateCamerasAreRejected) {
+  Camera c = testCamera();
+  c.lookAt = c.eye;
+  EXPECT_THROW(makeCameraFrame(c, 8, 8), std::invalid_argument);
+  c = testCamera();
+  c.up = c.lookAt - c.eye;
+  EXPECT_THROW(makeCameraFrame(c, 8, 8), std::invalid_argument);
+  EXPECT_THROW(makeCameraFrame(testCamera(), 0, 8), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra

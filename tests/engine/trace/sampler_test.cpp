@@ -1,0 +1,137 @@
+// Sampler tests: elementary-interval stratification of the per-pixel (0,2) points,
+// the bijection behind the shuffles, and determinism of the streams.
+#include "trace/sampler.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace penumbra {
+namespace {
+
+// Every elementary interval of volume 1/n (2^a by 2^(m-a) cells) holds exactly one point.
+void expectElementaryIntervals(const std::vector<glm::vec2>& points, int m) {
+  const int n = 1 << m;
+  ASSERT_EQ(int(points.size()), n);
+  for (int a = 0; a <= m; ++a) {
+    const int cellsX = 1 << a, cellsY = 1 << (m - a);
+    std::vector<int> counts(size_t(n), 0);
+    for (const glm::vec2& p : points) {
+      ASSERT_GE(p.x, 0.0f);
+      ASSERT_LT(p.x, 1.0f);
+      ASSERT_GE(p.y, 0.0f);
+      ASSERT_LT(p.y, 1.0f);
+      const int cx = int(p.x * cellsX), cy = int(p.y * cellsY);
+      ++counts[size_t(cy * cellsX + cx)];
+    }
+    for (int c : counts) ASSERT_EQ(c, 1) << "interval shape " << cellsX << "x" << cellsY;
+  }
+}
+
+struct PixelPoints {
+  std::vector<glm::vec2> image, lens, integrator;
+  std::vector<float> time;
+};
+
+PixelPoints drawPixel(PixelSampler& sampler, int px, int py, uint32_t first, uint32_t count) {
+  PixelPoints out;
+  for (uint32_t i = first; i < first + count; ++i) {
+    sampler.startSample(px, py, i);
+    const CameraSample s = sampler.cameraSample();
+    out.image.push_back({s.imageX - float(px), s.imageY - float(py)});
+    out.lens.push_back({s.lensU, s.lensV});
+    out.time.push_back(s.time);
+    sampler.next1D();  // a first integrator dimension, then a 2D one
+    out.integrator.push_back(sampler.next2D());
+  }
+  return out;
+}
+
+TEST(Sampler, ZeroTwoPointsAreStratifiedInEveryElementaryInterval) {
+  for (int m : {0, 2, 4, 5, 8}) {
+    PixelSampler sampler(SamplerKind::LowDiscrepancy, 1234, 1u << m);
+    for (auto [px, py] : {std::pair{0, 0}, std::pair{17, 3}, std::pair{255, 255}}) {
+      const PixelPoints p = drawPixel(sampler, px, py, 0, 1u << m);
+      expectElementaryIntervals(p.image, m);
+      expectElementaryIntervals(p.lens, m);
+      expectElementaryIntervals(p.integrator, m);
+      std::set<int> strata;
+      for (float t : p.time) strata.insert(int(t * float(1 << m)));
+      EXPECT_EQ(int(strata.size()), 1 << m) << "time is one point per stratum";
+    }
+  }
+}
+
+TEST(Sampler, LaterBlocksAreStratifiedToo) {
+  PixelSampler sampler(SamplerKind::LowDiscrepancy, 7, 16);
+  const PixelPoints second = drawPixel(sampler, 3, 4, 16, 16);
+  expectElementaryIntervals(second.image, 4);
+  const PixelPoints both = drawPixel(sampler, 3, 4, 0, 32);
+  expectElementaryIntervals(both.image, 5);
+}
+
+TEST(Sampler, DimensionsAreDecorrelatedByShuffling) {
+  // Unshuffled (0,2) sets would give identical image and lens points up to scrambling;
+  // the shuffled order must pair them differently across pixels.
+  PixelSampler sampler(SamplerKind::LowDiscrepancy, 99, 64);
+  const PixelPoints a = drawPixel(sampler, 0, 0, 0, 64);
+  const PixelPoints b = drawPixel(sampler, 1, 0, 0, 64);
+  int sameOrder = 0;
+  for (int i = 0; i < 64; ++i)
+    sameOrder += int(a.image[size_t(i)].x * 8) == int(b.image[size_t(i)].x * 8) ? 1 : 0;
+  EXPECT_LT(sameOrder, 32);
+}
+
+TEST(Sampler, PermutationIsABijection) {
+  for (uint32_t n : {1u, 2u, 8u, 64u, 1024u}) {
+    for (uint32_t key : {0u, 1u, 0xdeadbeefu}) {
+      std::set<uint32_t> seen;
+      for (uint32_t i = 0; i < n; ++i) seen.insert(permuteIndex(i, n, key));
+      EXPECT_EQ(seen.size(), n);
+      EXPECT_LT(*seen.rbegin(), n);
+    }
+  }
+}
+
+TEST(Sampler, SameSeedSameSamplesDifferentSeedDifferentSamples) {
+  for (SamplerKind kind : {SamplerKind::LowDiscrepancy, SamplerKind::Independent}) {
+    PixelSampler a(kind, 5, 16), b(kind, 5, 16), c(kind, 6, 16);
+    const PixelPoints pa = drawPixel(a, 9, 9, 0, 16), pb = drawPixel(b, 9, 9, 0, 16),
+                      pc = drawPixel(c, 9, 9, 0, 16);
+    EXPECT_EQ(pa.image, pb.image);
+    EXPECT_EQ(pa.integrator, pb.integrator);
+    EXPECT_NE(pa.image, pc.image);
+    // Drawing another pixel in between does not disturb a pixel's stream.
+    drawPixel(a, 1, 2, 0, 5);
+    EXPECT_EQ(drawPixel(a, 9, 9, 0, 16).lens, pb.lens);
+  }
+}
+
+TEST(Sampler, IndependentSamplesAreUniform) {
+  // Chi-square over 16 bins of 16384 values: the 0.999 quantile with 15 dof is 37.7.
+  PixelSampler sampler(SamplerKind::Independent, 3, 1);
+  std::vector<int> bins(16, 0);
+  for (uint32_t i = 0; i < 16384; ++i) {
+    sampler.startSample(i % 64, i / 64, i);
+    ++bins[size_t(sampler.next1D() * 16)];
+  }
+  double chi2 = 0;
+  for (int c : bins) chi2 += (c - 1024.0) * (c - 1024.0) / 1024.0;
+  EXPECT_LT(chi2, 37.7);
+}
+
+TEST(Sampler, RadicalInversesMatchHandValues) {
+  // Base-2 radical inverse of 1, 2, 3 is 1/2, 1/4, 3/4; Sobol's second dimension of the
+  // same indices is 1/2, 3/4, 1/4.
+  EXPECT_FLOAT_EQ(vanDerCorput(1, 0), 0.5f);
+  EXPECT_FLOAT_EQ(vanDerCorput(2, 0), 0.25f);
+  EXPECT_FLOAT_EQ(vanDerCorput(3, 0), 0.75f);
+  EXPECT_FLOAT_EQ(sobol2(1, 0), 0.5f);
+  EXPECT_FLOAT_EQ(sobol2(2, 0), 0.75f);
+  EXPECT_FLOAT_EQ(sobol2(3, 0), 0.25f);
+}
+
+}  // namespace
+}  // namespace penumbra

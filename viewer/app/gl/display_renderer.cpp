@@ -1,0 +1,229 @@
+#include "viewer/app/gl/display_renderer.h"
+
+#include "viewer/app/gl/context.h"
+#include "viewer/app/gl/shader.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <initializer_list>
+#include <utility>
+
+namespace penumbra {
+
+namespace {
+
+unsigned makeTexture() {
+  GLuint t = 0;
+  glGenTextures(1, &t);
+  glBindTexture(GL_TEXTURE_2D, t);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+void uploadRgb(unsigned texture, const Image& image) {
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, image.width, image.height, 0, GL_RGB, GL_FLOAT,
+               image.pixels.data());
+}
+
+int uniform(unsigned program, const char* name) { return glGetUniformLocation(program, name); }
+
+// Uses `program` with each texture on the next unit and its sampler uniform set to it.
+void useProgram(unsigned program,
+                std::initializer_list<std::pair<const char*, unsigned>> textures) {
+  glUseProgram(program);
+  int unit = 0;
+  for (const auto& [sampler, texture] : textures) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glUniform1i(uniform(program, sampler), unit++);
+  }
+}
+
+}  // namespace
+
+DisplayRenderer::DisplayRenderer() {
+  std::vector<unsigned> built;
+  try {
+    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag");
+    built.push_back(compositeProgram_);
+    viewProgram_ = buildProgram("fullscreen.vert", "view.frag");
+    built.push_back(viewProgram_);
+    quadProgram_ = buildProgram("quad.vert", "quad.frag");
+  } catch (...) {
+    for (unsigned p : built) glDeleteProgram(p);
+    throw;
+  }
+  glGenVertexArrays(1, &vao_);
+  glGenFramebuffers(1, &pictureFbo_);
+  picture_ = makeTexture();
+  image_ = makeTexture();
+  overlay_ = makeTexture();
+  slices_ = makeTexture();
+  legend_ = makeTexture();
+  // Valid 1x1 contents so that a draw before the first upload samples something defined.
+  setImage(Image(1, 1));
+  setOverlay(Image(1, 1));
+  setSlices(1, 1, {-1}, {-1}, {0});
+  width_ = height_ = 0;
+}
+
+DisplayRenderer::~DisplayRenderer() {
+  const GLuint textures[] = {image_, overlay_, slices_, legend_, picture_};
+  glDeleteTextures(5, textures);
+  glDeleteFramebuffers(1, &pictureFbo_);
+  glDeleteVertexArrays(1, &vao_);
+  glDeleteProgram(compositeProgram_);
+  glDeleteProgram(viewProgram_);
+  glDeleteProgram(quadProgram_);
+}
+
+void DisplayRenderer::setImage(const Image& image) {
+  if (image.empty()) return;
+  uploadRgb(image_, image);
+  if (image.width != width_ || image.height != height_) {
+    glBindTexture(GL_TEXTURE_2D, picture_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, nullptr);
+  }
+  width_ = image.width;
+  height_ = image.height;
+  pictureStale_ = true;
+}
+
+void DisplayRenderer::setOverlay(const Image& colors) {
+  if (!colors.empty()) uploadRgb(overlay_, colors);
+  pictureStale_ = true;
+}
+
+void DisplayRenderer::composite(const DisplayView& view) {
+  const bool same = !pictureStale_ && view.display.exposure == pictureDisplay_.exposure &&
+                    view.display.curve == pictureDisplay_.curve &&
+                    view.overlay == pictureOverlay_ && view.blend == pictureBlend_;
+  if (same || width_ <= 0 || height_ <= 0) return;
+  GLint bound = 0;
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+  glBindFramebuffer(GL_FRAMEBUFFER, pictureFbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, picture_, 0);
+  glViewport(0, 0, width_, height_);
+  const unsigned p = compositeProgram_;
+  useProgram(p, {{"image", image_}, {"overlay", overlay_}});
+  glUniform1f(uniform(p, "exposure"), view.display.exposure);
+  glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
+  glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
+  glUniform1f(uniform(p, "blend"), view.blend);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
+  pictureStale_ = false;
+  pictureDisplay_ = view.display;
+  pictureOverlay_ = view.overlay;
+  pictureBlend_ = view.blend;
+}
+
+void DisplayRenderer::setSlices(int width, int height, const std::vector<int8_t>& b,
+                                const std::vector<int8_t>& c,
+                                const std::vector<uint8_t>& selected) {
+  const size_t n = size_t(width) * height;
+  std::vector<uint8_t> texels(4 * n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    texels[4 * i + 0] = i < b.size() ? uint8_t(b[i] + 1) : 0;
+    texels[4 * i + 1] = i < c.size() ? uint8_t(c[i] + 1) : 0;
+    texels[4 * i + 2] = i < selected.size() ? selected[i] : 0;
+  }
+  glBindTexture(GL_TEXTURE_2D, slices_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8UI, width, height, 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+               texels.data());
+}
+
+void DisplayRenderer::setLegend(const Image& strip) {
+  legendWidth_ = strip.width;
+  legendHeight_ = strip.height;
+  if (!strip.empty()) {
+    uploadRgb(legend_, strip);
+    glBindTexture(GL_TEXTURE_2D, legend_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  }
+}
+
+void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
+  if (width <= 0 || height <= 0) return;
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glBindVertexArray(vao_);
+  composite(view);
+  glViewport(0, 0, width, height);
+
+  const unsigned p = viewProgram_;
+  useProgram(p, {{"picture", picture_}, {"slices", slices_}});
+  glUniform2f(uniform(p, "imageSize"), float(width_), float(height_));
+  glUniform2f(uniform(p, "viewportSize"), float(width), float(height));
+  glUniform2f(uniform(p, "viewCenter"), view.centerX, view.centerY);
+  glUniform1f(uniform(p, "zoom"), std::max(view.zoom, 1e-3f));
+  glUniform1i(uniform(p, "drawSlices"), view.slices ? 1 : 0);
+  glUniform1i(uniform(p, "slicesPerSide"), view.slicesPerSide);
+  glUniform2i(uniform(p, "inspected"), view.inspectedX, view.inspectedY);
+  glUniform3f(uniform(p, "background"), 0.12f, 0.12f, 0.13f);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  if (view.legendHeight > 0 && legendHeight_ > 0) {
+    const unsigned q = quadProgram_;
+    useProgram(q, {{"picture", legend_}});
+    glUniform2f(uniform(q, "viewportSize"), float(width), float(height));
+    // Drawn at its own size (scaled down to fit), along the bottom edge right of legendLeft.
+    const float room = float(std::max(1, width - view.legendLeft));
+    const float scale = std::min(1.0f, room / float(std::max(1, legendWidth_)));
+    const float w = legendWidth_ * scale, h = legendHeight_ * scale;
+    glUniform4f(uniform(q, "rect"), float(view.legendLeft), float(height) - h, w, h);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+  }
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+}
+
+OffscreenTarget::OffscreenTarget(int width, int height) : width_(width), height_(height) {
+  if (width <= 0 || height <= 0)
+    throw GlError("offscreen target of " + std::to_string(width) + "x" + std::to_string(height));
+  glGenFramebuffers(1, &fbo_);
+  glGenTextures(1, &color_);
+  glBindTexture(GL_TEXTURE_2D, color_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw GlError("offscreen framebuffer incomplete (status " + std::to_string(status) + ")");
+}
+
+OffscreenTarget::~OffscreenTarget() {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo_);
+  glDeleteTextures(1, &color_);
+}
+
+void OffscreenTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_); }
+
+std::vector<uint8_t> OffscreenTarget::read() const {
+  bind();
+  return readFramebuffer(width_, height_);
+}
+
+std::vector<uint8_t> readFramebuffer(int width, int height) {
+  std::vector<uint8_t> bottomUp(size_t(width) * height * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottomUp.data());
+  std::vector<uint8_t> topDown(bottomUp.size());
+  const size_t row = size_t(width) * 4;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(bottomUp.data() + size_t(height - 1 - y) * row, row,
+                topDown.data() + size_t(y) * row);
+  return topDown;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,399 @@
+// The viewer's Dear ImGui windows: the panel (method and parameters, progress and timings,
+// display, overlays, the MSE plot, controls and saving) and the pixel inspector (why a pixel
+// got its samples).
+#include "eval/metrics.h"
+#include "viewer/app/view_app.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace penumbra {
+
+namespace {
+
+ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(srgb.x, srgb.y, srgb.z, alpha));
+}
+
+// The method's parameters; returns true when one changed (the caller restarts).
+bool methodParameters(ViewOptions& o) {
+  bool changed = false;
+  const std::vector<std::string>& names = methodNames();
+  int method = int(std::find(names.begin(), names.end(), o.method) - names.begin());
+  if (ImGui::BeginCombo("method", o.method.c_str())) {
+    for (int i = 0; i < int(names.size()); ++i) {
+      const std::string label =
+          names[size_t(i)] + " - " + describe(*parseMethodKind(names[size_t(i)]));
+      if (ImGui::Selectable(label.c_str(), i == method)) {
+        o.method = names[size_t(i)];
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  changed |= ImGui::InputInt("target spp (0: open)", &o.targetSpp);
+  o.targetSpp = std::max(0, o.targetSpp);
+  changed |= ImGui::SliderInt("spp per round", &o.roundSpp, 1, 16);
+  int seed = int(o.seed);
+  if (ImGui::InputInt("seed", &seed)) {
+    o.seed = uint64_t(std::max(0, seed));
+    changed = true;
+  }
+  if (o.method != "bp" && o.method != "ld") {
+    AllocationConfig& a = o.baseline.allocation;
+    changed |= ImGui::SliderInt("batch per chosen pixel (0: 8)", &a.batch, 0, 64);
+    if (o.method == "fdiv") {
+      int d = int(o.baseline.divergence);
+      if (ImGui::Combo("divergence", &d, "Hellinger\0Kullback-Leibler\0chi-square\0")) {
+        o.baseline.divergence = Divergence(d);
+        changed = true;
+      }
+    }
+    if (o.method == "gem") changed |= ImGui::SliderFloat("gamma", &o.baseline.gamma, 0.01f, 0.5f);
+  }
+  if (o.method != "bp") return changed;
+  BpConfig& bp = o.bp;
+  if (ImGui::Button("paper preset")) {
+    applyBpPreset(bp, BpPreset::Paper);
+    changed = true;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("tuned preset")) {
+    applyBpPreset(bp, BpPreset::Tuned);
+    changed = true;
+  }
+  if (ImGui::TreeNode("Table 1 parameters")) {
+    changed |= ImGui::SliderInt("Nit", &bp.network.epochs, 0, 200);
+    changed |= ImGui::SliderInt("hidden Nm", &bp.network.hidden, 1, kMaxNetHidden);
+    int inputs = bp.network.inputs == 5 ? 1 : 0;
+    if (ImGui::Combo("inputs", &inputs, "4 (radius, u, v, t)\0005 (dx, dy, u, v, t)\0")) {
+      bp.network.inputs = inputs ? 5 : 4;
+      changed = true;
+    }
+    changed |= ImGui::SliderFloat("psi", &bp.psi, 0.0f, 1.0f, "%.3f");
+    changed |= ImGui::SliderFloat("e", &bp.network.errorThreshold, 0.0f, 1.0f, "%.3f");
+    changed |= ImGui::SliderInt("candidates", &bp.candidates, 1, 16);
+    changed |= ImGui::SliderInt("slices S", &bp.slicesPerSide, 1, kMaxSlicesPerSide);
+    changed |= ImGui::SliderInt("radius r", &bp.filter.radius, 0, 8);
+    changed |= ImGui::SliderFloat("sigma_c", &bp.filter.sigmaC, 0.005f, 1.0f, "%.3f",
+                                  ImGuiSliderFlags_Logarithmic);
+    for (size_t i = 0; i < bp.filter.phi.size(); ++i) {
+      char label[32];
+      std::snprintf(label, sizeof label, "phi %zu", i + 1);
+      changed |= ImGui::SliderFloat(label, &bp.filter.phi[i], 0.0f, 2.0f, "%.2f");
+    }
+    for (size_t i = 0; i < bp.filter.alphas.size(); ++i) {
+      char label[32];
+      std::snprintf(label, sizeof label, "alpha %zu", i + 1);
+      changed |= ImGui::SliderFloat(label, &bp.filter.alphas[i], 0.01f, 20.0f, "%.2f",
+                                    ImGuiSliderFlags_Logarithmic);
+    }
+    changed |= ImGui::SliderInt("levels m", &bp.histogramLevels, 1, kMaxHistogramLevels);
+    int rate = bp.network.rate == LearningRateMode::Proportional ? 1 : 0;
+    if (ImGui::Combo("learning rate", &rate, "bold driver\0proportional to er\0")) {
+      bp.network.rate = rate ? LearningRateMode::Proportional : LearningRateMode::BoldDriver;
+      changed = true;
+    }
+    changed |= ImGui::SliderFloat("mu min", &bp.network.muMin, 0.001f, 0.5f, "%.3f");
+    changed |= ImGui::SliderFloat("mu max", &bp.network.muMax, 0.001f, 0.5f, "%.3f");
+    changed |= ImGui::SliderInt("reservoir", &bp.reservoir, 4, 256);
+    ImGui::TreePop();
+  }
+  if (ImGui::TreeNode("Ablations")) {
+    bool perSample = bp.targets == TargetMode::PerSample;
+    if (ImGui::Checkbox("per-sample targets", &perSample)) {
+      bp.targets = perSample ? TargetMode::PerSample : TargetMode::PixelMean;
+      changed = true;
+    }
+    changed |= ImGui::SliderInt("I' draws K", &bp.predictionDraws, 1, 32);
+    bool traced = bp.candidateMode == CandidateMode::Traced;
+    if (ImGui::Checkbox("trace candidates", &traced)) {
+      bp.candidateMode = traced ? CandidateMode::Traced : CandidateMode::Predicted;
+      changed = true;
+    }
+    changed |= ImGui::Checkbox("warping", &bp.warping);
+    changed |= ImGui::Checkbox("outlier removal (eq. 16)", &bp.outlierRemoval);
+    changed |= ImGui::Checkbox("second pass", &bp.filter.secondPass);
+    changed |= ImGui::Checkbox("stratified mean", &bp.stratifiedMean);
+    changed |= ImGui::Checkbox("top up", &bp.topUp);
+    changed |= ImGui::Checkbox("reconstruct", &bp.reconstruct);
+    ImGui::TreePop();
+  }
+  return changed;
+}
+
+void progress(ViewerApp& app, const Snapshot& s) {
+  const double pixels = std::max(1.0, double(s.width) * s.height);
+  ImGui::Text("%s  round %d  %s", s.method.c_str(), s.round, toString(app.session().state()));
+  ImGui::Text("kept %.2f spp, traced %.2f spp", double(s.keptSamples) / pixels,
+              double(s.tracedSamples) / pixels);
+  const double mrays = s.seconds > 0 ? double(s.rays) / s.seconds * 1e-6 : 0.0;
+  ImGui::Text("%.2f s, %.2f Mrays/s", s.seconds, mrays);
+  ImGui::Text("trace %.2f  train %.2f  select %.2f  reconstruct %.2f s", s.times.trace,
+              s.times.train, s.times.select, s.times.reconstruct);
+  if (s.nonFiniteSamples)
+    ImGui::Text("%llu NaN/inf samples dropped", (unsigned long long)s.nonFiniteSamples);
+}
+
+// MSE against kept spp on log-log axes (the paper's Fig. 7), with the decades labelled.
+void msePlot(const std::vector<std::pair<double, double>>& history) {
+  const ImVec2 size(ImGui::GetContentRegionAvail().x, 110.0f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                      IM_COL32(25, 25, 30, 255));
+  double x0 = 1e30, x1 = -1e30, y0 = 1e30, y1 = -1e30;
+  for (const auto& [spp, mse] : history) {
+    if (!(spp > 0) || !(mse > 0)) continue;
+    x0 = std::min(x0, std::log10(spp));
+    x1 = std::max(x1, std::log10(spp));
+    y0 = std::min(y0, std::log10(mse));
+    y1 = std::max(y1, std::log10(mse));
+  }
+  if (x0 > x1) {
+    ImGui::Dummy(size);
+    return;
+  }
+  // Whole decades around the data, at least one wide.
+  x0 = std::floor(x0);
+  x1 = std::max(std::ceil(x1), x0 + 1);
+  y0 = std::floor(y0);
+  y1 = std::max(std::ceil(y1), y0 + 1);
+  const float left = 44, bottom = 16;
+  auto at = [&](double lx, double ly) {
+    return ImVec2(origin.x + left + float((lx - x0) / (x1 - x0)) * (size.x - left - 6),
+                  origin.y + 4 + float((y1 - ly) / (y1 - y0)) * (size.y - bottom - 8));
+  };
+  char label[32];
+  for (double d = y0; d <= y1 + 1e-9; d += 1) {
+    const ImVec2 p = at(x0, d);
+    draw->AddLine(p, at(x1, d), IM_COL32(70, 70, 80, 255));
+    std::snprintf(label, sizeof label, "1e%d", int(d));
+    draw->AddText(ImVec2(origin.x + 2, p.y - 7), IM_COL32(180, 180, 180, 255), label);
+  }
+  for (double d = x0; d <= x1 + 1e-9; d += 1) {
+    const ImVec2 p = at(d, y0);
+    draw->AddLine(at(d, y1), p, IM_COL32(70, 70, 80, 255));
+    std::snprintf(label, sizeof label, "%g", std::pow(10.0, d));
+    const float textWidth = ImGui::CalcTextSize(label).x;
+    const float x = std::min(p.x - 0.5f * textWidth, origin.x + size.x - textWidth - 2);
+    draw->AddText(ImVec2(x, origin.y + size.y - bottom + 1), IM_COL32(180, 180, 180, 255), label);
+  }
+  ImVec2 previous{};
+  bool have = false;
+  for (const auto& [spp, mse] : history) {
+    if (!(spp > 0) || !(mse > 0)) continue;
+    const ImVec2 p = at(std::log10(spp), std::log10(mse));
+    if (have) draw->AddLine(previous, p, IM_COL32(250, 200, 60, 255), 1.5f);
+    draw->AddCircleFilled(p, 2.0f, IM_COL32(250, 200, 60, 255));
+    previous = p;
+    have = true;
+  }
+  ImGui::Dummy(size);
+  ImGui::TextDisabled("MSE against kept spp, log-log");
+}
+
+}  // namespace
+
+void drawPanel(ViewerApp& app) {
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(340, 0),
+                                      ImVec2(340, ImGui::GetIO().DisplaySize.y - 16));
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  if (!ImGui::Begin("Penumbra")) {
+    ImGui::End();
+    return;
+  }
+  ViewOptions& o = app.options_;
+  const auto snap = app.snapshot_;
+  if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (snap)
+      progress(app, *snap);
+    else
+      ImGui::TextUnformatted("waiting for the first round");
+    if (app.firstPreviewSeconds_ >= 0)
+      ImGui::Text("first picture %.0f ms after the last restart", app.firstPreviewSeconds_ * 1e3);
+    const FrameStats& f = app.frameStats_;
+    ImGui::Text("UI frame %.1f ms (p95 %.1f ms)", f.lastSeconds * 1e3, f.percentile(0.95) * 1e3);
+    const bool paused = app.session().state() == RenderSession::State::Paused;
+    if (ImGui::Button(paused ? "resume" : "pause")) {
+      if (paused)
+        app.session().resume();
+      else
+        app.session().pause();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("one round")) app.session().step();
+    ImGui::SameLine();
+    if (ImGui::Button("restart")) app.restart();
+  }
+  if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (methodParameters(o)) app.restart();
+    if (!app.configError_.empty())
+      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", app.configError_.c_str());
+  }
+  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SliderFloat("exposure", &o.display.exposure, -10.0f, 10.0f, "%.1f stops");
+    int curve = o.display.curve == ToneCurve::Filmic ? 1 : 0;
+    if (ImGui::Combo("tone", &curve, "sRGB\0filmic\0"))
+      o.display.curve = curve ? ToneCurve::Filmic : ToneCurve::Srgb;
+    if (ImGui::Checkbox("raw estimate (no reconstruction)", &o.showRaw)) app.overlayStale_ = true;
+    int current = 0;
+    const auto list = overlayList();
+    for (size_t i = 0; i < list.size(); ++i)
+      if (list[i].overlay == o.overlay) current = int(i) + 1;
+    std::string items = std::string("none") + '\0';
+    for (const OverlayInfo& info : list) items += std::string(info.label) + '\0';
+    if (ImGui::Combo("overlay", &current, items.c_str()))
+      app.setOverlay(current == 0 ? Overlay::None : list[size_t(current - 1)].overlay);
+    ImGui::SliderFloat("blend", &o.blend, 0.0f, 1.0f, "%.2f");
+    if (o.overlay != Overlay::None && !app.overlayImage_.available())
+      ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", app.overlayImage_.unavailable.c_str());
+    ImGui::Text("zoom %.2fx", app.zoom_);
+    float ix, iy;
+    app.toScreen(app.cursorX_, app.cursorY_, ix, iy);
+    const int px = int(std::floor(ix)), py = int(std::floor(iy));
+    if (snap && px >= 0 && py >= 0 && px < snap->width && py < snap->height) {
+      const vec3 c = app.shownImage().at(px, py);
+      ImGui::Text("pixel (%d, %d): %.4g %.4g %.4g", px, py, c.x, c.y, c.z);
+      const OverlayImage& ov = app.overlayImage_;
+      if (ov.available())
+        ImGui::Text("%s: %.4g", ov.legend.title.c_str(), ov.values[size_t(py) * snap->width + px]);
+    }
+  }
+  if (o.reference && ImGui::CollapsingHeader("Reference", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::TextUnformatted(o.referencePath.c_str());
+    const auto& h = app.mseHistory_;
+    if (!h.empty()) {
+      ImGui::Text("MSE %.3e at %.1f spp", h.back().second, h.back().first);
+      msePlot(h);
+    }
+  }
+  if (ImGui::CollapsingHeader("Save")) {
+    ImGui::InputText("image", app.savePath_, sizeof app.savePath_);
+    if (ImGui::Button("save image (.exr/.png)"))
+      app.message_ = app.saveImage(o.saveDirectory + "/" + app.savePath_);
+    ImGui::InputText("screenshot", app.screenshotField_, sizeof app.screenshotField_);
+    if (ImGui::Button("save screenshot"))
+      app.requestScreenshot(o.saveDirectory + "/" + app.screenshotField_);
+  }
+  if (ImGui::CollapsingHeader("Keys", app.showHelp_ ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
+    ImGui::TextUnformatted(
+        "1-7 overlays, 0 none, [ ] blend, R raw/reconstructed\n"
+        "-/= exposure, T tone curve, F fit, scroll zoom\n"
+        "middle or shift+left drag: pan the image\n"
+        "left drag: orbit, right drag: pan the camera\n"
+        "ctrl+scroll: dolly, WASD QE: fly\n"
+        "click: inspect a pixel, I inspector, Tab panel\n"
+        "space pause/resume, N one round, P screenshot\n"
+        "ctrl+S save image, Esc quit");
+  }
+  if (!app.message_.empty()) ImGui::TextWrapped("%s", app.message_.c_str());
+  ImGui::End();
+}
+
+void drawInspector(ViewerApp& app) {
+  ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 330, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  bool open = true;
+  if (!ImGui::Begin("Pixel inspector", &open)) {
+    ImGui::End();
+    return;
+  }
+  if (!open) app.inspectPixel(-1, -1);
+  const auto in = app.inspection_;
+  if (!in || !in->valid || in->x != app.inspectX_ || in->y != app.inspectY_) {
+    ImGui::Text("pixel (%d, %d): waiting for the round to finish", app.inspectX_, app.inspectY_);
+    ImGui::End();
+    return;
+  }
+  ImGui::Text("pixel (%d, %d), %s, after round %d", in->x, in->y, in->method.c_str(), in->round);
+  ImGui::TextWrapped("%s", in->reason.c_str());
+  ImGui::Text("kept %u, traced %u, +%u last round", in->kept, in->traced, in->addedLastRound);
+  ImGui::Text("estimate %.4g %.4g %.4g", in->estimate.x, in->estimate.y, in->estimate.z);
+  if (in->method == "bp") {
+    ImGui::Text("mean I   %.3f %.3f %.3f (tone-mapped)", in->meanMapped.x, in->meanMapped.y,
+                in->meanMapped.z);
+    ImGui::Text("net  I'  %.3f %.3f %.3f", in->prediction.x, in->prediction.y, in->prediction.z);
+    ImGui::Text("bias %.3f %s psi %.3f", in->bias, in->bias > in->psi ? ">" : "<=", in->psi);
+    ImGui::Text("er   %.3f %s e %.3f", in->networkError,
+                in->networkError > in->errorThreshold ? ">" : "<=", in->errorThreshold);
+    const auto snap = app.snapshot_;
+    if (snap && !snap->alphaIndex.empty()) {
+      const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
+      const auto& alphas = app.options_.bp.filter.alphas;
+      ImGui::Text("filter alpha %g (index %d)", a < alphas.size() ? alphas[a] : -1.0f, int(a) + 1);
+    }
+    if (in->sliceB >= 0)
+      ImGui::Text("B = slice %d, C = slice %d, eq. 14 %.3f, %s", in->sliceB, in->sliceC,
+                  in->contrast, in->warped ? "B's sample warped into C" : "no warping");
+  } else if (in->method != "ld") {
+    const auto snap = app.snapshot_;
+    ImGui::Text("%s %.4g", snap ? snap->biasLabel.c_str() : "score", in->bias);
+    if (in->rank >= 0)
+      ImGui::Text("rank %d; the last round sampled the top %zu", in->rank + 1, in->rankedPixels);
+    if (snap && !snap->alphaIndex.empty() && !snap->filterScaleLabels.empty()) {
+      const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
+      ImGui::Text("filter scale %s",
+                  a < snap->filterScaleLabels.size() ? snap->filterScaleLabels[a].c_str() : "?");
+    }
+  }
+  if (in->samples.empty() && in->candidates.empty()) {  // the baselines store no samples
+    ImGui::End();
+    return;
+  }
+  // The pixel drawn large: slices, B and C, the stored samples coloured by value (viridis),
+  // last round's candidates as rings (filled: kept).
+  const float side = std::min(ImGui::GetContentRegionAvail().x, 300.0f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + side, origin.y + side), IM_COL32(30, 30, 34, 255));
+  const int S = std::max(1, in->slicesPerSide);
+  const float cell = side / float(S);
+  for (int s = 0; s < S * S; ++s) {
+    const ImVec2 a(origin.x + (s % S) * cell, origin.y + (s / S) * cell);
+    const ImVec2 b(a.x + cell, a.y + cell);
+    if (s == in->sliceB) draw->AddRectFilled(a, b, IM_COL32(64, 140, 255, 70));
+    if (s == in->sliceC) draw->AddRectFilled(a, b, IM_COL32(255, 140, 25, 70));
+    draw->AddRect(a, b, IM_COL32(150, 150, 150, 255));
+    char label[48];
+    const bool hasStats = size_t(s) < in->slices.size();
+    std::snprintf(label, sizeof label, "%s%d n=%u",
+                  s == in->sliceB   ? "B "
+                  : s == in->sliceC ? "C "
+                                    : "",
+                  s, hasStats ? in->slices[size_t(s)].count : 0u);
+    draw->AddText(ImVec2(a.x + 3, a.y + 2), IM_COL32(220, 220, 220, 255), label);
+  }
+  auto at = [&](float ox, float oy) { return ImVec2(origin.x + ox * side, origin.y + oy * side); };
+  for (const InspectedSample& s : in->samples)
+    draw->AddCircleFilled(at(s.ox, s.oy), 4.0f, toU32(colormapViridis(s.value)));
+  for (const InspectedCandidate& c : in->candidates) {
+    const ImU32 color = toU32(colormapViridis(c.value));
+    draw->AddCircle(at(c.ox, c.oy), 7.0f, c.kept ? IM_COL32(255, 255, 255, 255) : color, 0,
+                    c.kept ? 2.5f : 1.5f);
+  }
+  ImGui::Dummy(ImVec2(side, side));
+  ImGui::Text("%zu samples, %zu candidates last round", in->samples.size(), in->candidates.size());
+  if (ImGui::TreeNode("slices")) {
+    for (size_t s = 0; s < in->slices.size(); ++s)
+      ImGui::Text("%zu: n %u, mean v %.3f, eq. 15 %.4f", s, in->slices[s].count,
+                  in->slices[s].meanValue, in->slices[s].fDivergence);
+    ImGui::TreePop();
+  }
+  if (!in->candidates.empty() && ImGui::TreeNode("candidates (eq. 16)")) {
+    for (const InspectedCandidate& c : in->candidates)
+      ImGui::Text("slice %d%s v %.3f score %.3f%s", c.slice,
+                  c.mirroredFrom >= 0 ? " (mirrored)" : "", c.value, c.score,
+                  c.kept ? "  kept" : "");
+    ImGui::TreePop();
+  }
+  ImGui::End();
+}
+
+}  // namespace penumbra

@@ -1,0 +1,370 @@
+// `penumbra compare`: renders one scene with several methods under the fair-comparison
+// protocol of ALGORITHM.md §11 (same integrator, same LD sampler, fixed seeds, equal kept
+// spp or equal wall time) and writes the report (viewer/report/report.h): report.html,
+// report.md, results.json, results.csv and the images.
+//
+// A method entry is NAME[:MODIFIER...][@SPP]: NAME one of methodNames(); modifiers
+// `paper`, `tuned` (BP presets) and `raw` (the estimate before reconstruction, e.g. the
+// paper's "ours, sampling only"); @SPP overrides --spp for that entry (the "LD at 64 spp"
+// of E3). Examples: ld,gem,bp:tuned,ld@64.
+#include "core/image_io.h"
+#include "eval/metrics.h"
+#include "methods/factory.h"
+#include "methods/render.h"
+#include "trace/integrator.h"
+#include "viewer/cli/commands.h"
+#include "viewer/cli/method_options.h"
+#include "viewer/cli/scene_options.h"
+#include "viewer/report/report.h"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <thread>
+
+namespace penumbra {
+
+namespace {
+
+struct CompareFlags {
+  SceneOptions scene;
+  MethodOptions method;
+  std::string methods = "ld,fdiv,fuzzy,gem,bp:tuned";
+  std::string referencePath, outDir, title;
+  std::vector<std::string> crops;
+  int spp = 0;  // 0: the scene's
+  int seeds = 5;
+  uint64_t firstSeed = 1;
+  double equalTime = 0;
+  int referenceSpp = 4096;
+  int threads = 0;
+  float exposure = 0;
+  bool quiet = false;
+  std::string commandLine;
+};
+
+struct Entry {
+  std::string label;
+  std::string name;
+  MethodKind kind = MethodKind::Ld;
+  std::string preset;  // bp: "" (the flags'), "paper" or "tuned"
+  bool raw = false;
+  int spp = 0;
+};
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  return parts;
+}
+
+int parsePositive(const std::string& what, const std::string& text) {
+  size_t used = 0;
+  int v = 0;
+  try {
+    v = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || v < 1)
+    throw CommandError(what + ": expected a positive whole number, got '" + text + "'");
+  return v;
+}
+
+std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
+  std::vector<Entry> entries;
+  std::set<std::string> labels;
+  if (!list.empty() && list.back() == ',')
+    throw CommandError("--methods: empty entry in '" + list + "'");
+  for (const std::string& item : split(list, ',')) {
+    if (item.empty()) throw CommandError("--methods: empty entry in '" + list + "'");
+    Entry e;
+    e.label = item;
+    std::string body = item;
+    e.spp = defaultSpp;
+    if (const size_t at = body.find('@'); at != std::string::npos) {
+      e.spp = parsePositive("--methods: " + item, body.substr(at + 1));
+      body = body.substr(0, at);
+    }
+    const auto parts = split(body, ':');
+    e.name = parts.empty() ? "" : parts[0];
+    const auto kind = parseMethodKind(e.name);
+    if (!kind) {
+      std::string names;
+      for (const std::string& n : methodNames()) names += (names.empty() ? "" : ", ") + n;
+      throw CommandError("--methods: unknown method '" + e.name + "' in '" + item +
+                         "' (expected one of: " + names + ")");
+    }
+    e.kind = *kind;
+    for (size_t i = 1; i < parts.size(); ++i) {
+      if (parts[i] == "raw") {
+        e.raw = true;
+      } else if ((parts[i] == "paper" || parts[i] == "tuned") && e.kind == MethodKind::Bp) {
+        e.preset = parts[i];
+      } else {
+        throw CommandError("--methods: unknown modifier '" + parts[i] + "' in '" + item +
+                           "' (raw for any method; paper, tuned for bp)");
+      }
+    }
+    if (!labels.insert(e.label).second)
+      throw CommandError("--methods: '" + e.label + "' is listed twice");
+    entries.push_back(e);
+  }
+  if (entries.empty()) throw CommandError("--methods: no method given");
+  return entries;
+}
+
+report::Crop parseCrop(const std::string& text, int index, int width, int height) {
+  const auto parts = split(text, ',');
+  if (parts.size() != 4)
+    throw CommandError("--crop: expected x,y,w,h in pixels, got '" + text + "'");
+  report::Crop c;
+  c.name = std::string(1, char('A' + index % 26));
+  int v[4];
+  for (int i = 0; i < 4; ++i) {
+    size_t used = 0;
+    try {
+      v[i] = std::stoi(parts[size_t(i)], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != parts[size_t(i)].size())
+      throw CommandError("--crop: expected x,y,w,h in pixels, got '" + text + "'");
+  }
+  c.x = v[0];
+  c.y = v[1];
+  c.w = v[2];
+  c.h = v[3];
+  if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > width || c.y + c.h > height)
+    throw CommandError("--crop " + text + ": outside the " + std::to_string(width) + "x" +
+                       std::to_string(height) + " image");
+  return c;
+}
+
+std::string elapsed(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", seconds);
+  return text;
+}
+
+// Runs one method once: to its budget, or open-ended until `equalTime` seconds.
+std::shared_ptr<Snapshot> runOnce(const PreparedScene& prepared, const MethodSpec& spec,
+                                  double equalTime) {
+  auto method = makeMethod(prepared, spec);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  int guard = 0;
+  while (!method->done() && guard++ < 1000000) {
+    method->runRound(nullptr);
+    if (equalTime > 0 && seconds() >= equalTime) break;
+  }
+  return method->snapshot(true);
+}
+
+void run(CompareFlags flags) {
+  if (!flags.referencePath.empty()) {
+    const std::string ext = lowercaseExtension(flags.referencePath);
+    if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
+      throw CommandError("--reference " + flags.referencePath +
+                         ": a reference must be linear (.exr, .pfm or .hdr), not an 8-bit image");
+  }
+  if (!flags.referencePath.empty() && !std::filesystem::exists(flags.referencePath))
+    throw CommandError("--reference " + flags.referencePath +
+                       ": no such file (render one with `penumbra reference " +
+                       flags.scene.scenePath + " --spp 8192 -o " + flags.referencePath +
+                       "`, or leave --reference out to have compare render one)");
+  if (flags.spp > 0) flags.scene.spp = flags.spp;
+  auto prepared = prepareScene(loadSceneWithOptions(flags.scene));
+  const RenderSettings& settings = prepared->scene.settings;
+  const int spp = settings.spp;
+  const std::vector<Entry> entries = parseEntries(flags.methods, spp);
+  std::string referenceNote;
+  Image reference;
+  if (flags.referencePath.empty()) {
+    // No reference given: render one (low discrepancy, same integrator) and keep it in DIR
+    // so the next comparison can reuse it.
+    std::filesystem::create_directories(flags.outDir);
+    flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
+    RenderOptions options;
+    options.spp = flags.referenceSpp;
+    options.seed = 999;
+    options.threads = flags.threads;
+    if (!flags.quiet)
+      std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
+                  flags.referenceSpp);
+    std::fflush(stdout);
+    const RenderResult ref = renderImage(*prepared, options);
+    writeImage(flags.referencePath, ref.image);
+    reference = ref.image;
+    const double residual = convergenceOf(ref.image, ref.varianceOfMean).residualMse;
+    char note[160];
+    std::snprintf(note, sizeof note, "rendered by compare at %d spp; its residual MSE %.3g",
+                  flags.referenceSpp, residual);
+    referenceNote = note;
+  } else {
+    try {
+      reference = readImage(flags.referencePath);
+    } catch (const ImageIoError& e) {
+      throw CommandError(std::string("--reference ") + e.what());
+    }
+  }
+  if (reference.width != settings.width || reference.height != settings.height)
+    throw CommandError("--reference " + flags.referencePath + " is " +
+                       std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                       " but the render is " + std::to_string(settings.width) + "x" +
+                       std::to_string(settings.height) + " (give --size)");
+  const int threads =
+      flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  std::unique_ptr<tbb::global_control> limit;
+  if (flags.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  size_t(flags.threads));
+
+  report::CompareReport r;
+  r.title = std::filesystem::path(flags.scene.scenePath).stem().string();
+  if (!flags.title.empty()) r.title = flags.title;
+  r.scenePath = flags.scene.scenePath;
+  r.referencePath = flags.referencePath;
+  if (!referenceNote.empty()) r.referencePath += " (" + referenceNote + ")";
+  r.mode = flags.equalTime > 0 ? "equal time (" + elapsed(flags.equalTime) + " per run)"
+                               : "equal kept spp (" + std::to_string(spp) + ")";
+  r.commandLine = flags.commandLine;
+  r.threads = threads;
+  r.reference = reference;
+  r.exposure = flags.exposure;
+  for (size_t i = 0; i < flags.crops.size(); ++i)
+    r.crops.push_back(parseCrop(flags.crops[i], int(i), reference.width, reference.height));
+
+  const double pixels = double(reference.width) * reference.height;
+  for (const Entry& e : entries) {
+    report::MethodResult result;
+    result.label = e.label;
+    result.spp = e.spp;
+    result.description = describe(e.kind);
+    MethodOptions options = flags.method;
+    options.method = e.name;
+    if (!e.preset.empty()) options.preset = e.preset;
+    if (e.kind == MethodKind::Bp)
+      result.description += std::string(", ") + options.preset + " preset";
+    if (e.raw) result.description += ", before reconstruction";
+    for (int s = 0; s < flags.seeds; ++s) {
+      const uint64_t seed = flags.firstSeed + uint64_t(s);
+      MethodSpec spec = options.spec(e.spp, seed, SamplerKind::LowDiscrepancy);
+      if (flags.equalTime > 0) {
+        spec.openEnded = true;
+        spec.roundSpp = 1;
+        spec.maxSpp = 0;
+      }
+      if (e.kind == MethodKind::Bp && e.raw) spec.bp.reconstruct = false;
+      const auto snap = runOnce(*prepared, spec, flags.equalTime);
+      const bool useRaw = e.raw || (e.kind == MethodKind::Bp && !spec.bp.reconstruct);
+      const Image& image = useRaw || snap->reconstructed.empty() ? snap->raw : snap->reconstructed;
+      report::MethodRun run;
+      run.seed = seed;
+      run.metrics = compareImages(image, reference);
+      run.keptSpp = double(snap->keptSamples) / pixels;
+      run.tracedSpp = double(snap->tracedSamples) / pixels;
+      run.seconds = snap->seconds;
+      run.trace = snap->times.trace;
+      run.train = snap->times.train;
+      run.select = snap->times.select;
+      run.reconstruct = snap->times.reconstruct;
+      result.runs.push_back(run);
+      if (!flags.quiet)
+        std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
+                    e.label.c_str(), static_cast<unsigned long long>(seed), run.metrics.mse,
+                    run.metrics.toneMappedMse, run.keptSpp, run.seconds);
+      std::fflush(stdout);
+      if (s == 0) {
+        result.image = image;
+        result.density.assign(snap->keptCount.begin(), snap->keptCount.end());
+        result.errorEstimate = snap->bias;
+        result.errorEstimateName = snap->biasLabel;
+        if (!useRaw && !snap->alphaIndex.empty()) {
+          result.filterScale.assign(snap->alphaIndex.begin(), snap->alphaIndex.end());
+          result.filterScaleLabels = snap->filterScaleLabels;
+          if (result.filterScaleLabels.empty())
+            for (float a : spec.bp.filter.alphas) {
+              char label[24];
+              std::snprintf(label, sizeof label, "a=%g", double(a));
+              result.filterScaleLabels.push_back(label);
+            }
+        }
+      }
+    }
+    r.methods.push_back(std::move(result));
+  }
+  report::writeReport(flags.outDir, r);
+  if (flags.quiet) return;
+  // The one line a user wants: who wins, by how much.
+  size_t best = 0;
+  std::vector<double> mse;
+  for (const auto& m : r.methods) {
+    std::vector<double> v;
+    for (const auto& run : m.runs) v.push_back(run.metrics.mse);
+    mse.push_back(report::summarize(v).mean);
+  }
+  for (size_t i = 1; i < mse.size(); ++i)
+    if (mse[i] < mse[best]) best = i;
+  std::printf("%s/report.html: %s has the lowest MSE (%.4g, %.2fx of %s)\n", flags.outDir.c_str(),
+              r.methods[best].label.c_str(), mse[best], mse[0] > 0 ? mse[best] / mse[0] : 0.0,
+              r.methods[0].label.c_str());
+}
+
+}  // namespace
+
+void registerCompareCommand(CLI::App& app) {
+  auto flags = std::make_shared<CompareFlags>();
+  CLI::App* c = app.add_subcommand(
+      "compare",
+      "Render a scene with several methods (fixed seeds, equal kept spp or equal time) and "
+      "write DIR/report.html, report.md, results.json and results.csv against a reference");
+  addSceneOptions(*c, flags->scene);
+  c->add_option("--methods", flags->methods,
+                "Comma-separated NAME[:MODIFIER][@SPP]: NAME in ld, bp, fdiv, fuzzy, gem, "
+                "cycles; modifiers paper/tuned (bp presets), raw (before reconstruction); "
+                "@SPP overrides --spp, e.g. ld,gem,bp:tuned,ld@64")
+      ->capture_default_str();
+  c->add_option("--reference", flags->referencePath,
+                "Reference image (.exr), e.g. from `penumbra reference` (default: render one "
+                "at --reference-spp into DIR/reference.exr)");
+  c->add_option("--reference-spp", flags->referenceSpp,
+                "Samples per pixel of the reference rendered when --reference is not given")
+      ->check(CLI::Range(1, 1 << 24))
+      ->capture_default_str();
+  c->add_option("--out", flags->outDir, "Output folder")->required();
+  c->add_option("--seeds", flags->seeds, "Seeds per method (1, 2, ...); MSE is their mean")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  c->add_option("--first-seed", flags->firstSeed, "First seed")->capture_default_str();
+  c->add_option("--equal-time", flags->equalTime,
+                "Give every run this many seconds (open-ended rounds; the round in flight "
+                "finishes) instead of equal kept spp")
+      ->check(CLI::Range(0.0, 1e6));
+  c->add_option("--crop", flags->crops,
+                "Region x,y,w,h to zoom into (repeatable); default: chosen where the methods "
+                "differ most");
+  c->add_option("--title", flags->title, "Report title (default: the scene's file name)");
+  c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  c->add_option("--exposure", flags->exposure, "Exposure in stops for the report's images")
+      ->check(CLI::Range(-40.0f, 40.0f));
+  c->add_flag("-q,--quiet", flags->quiet, "No per-run lines or summary");
+  addMethodOptions(*c, flags->method);
+  c->callback([flags] {
+    CompareFlags f = *flags;
+    f.commandLine = commandLine();
+    run(f);
+  });
+}
+
+}  // namespace penumbra

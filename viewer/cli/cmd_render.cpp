@@ -1,0 +1,307 @@
+// `penumbra render`: renders a scene to an image file, with optional statistics.
+#include "core/image_io.h"
+#include "methods/factory.h"
+#include "methods/render.h"
+#include "present/snapshot_io.h"
+#include "trace/integrator.h"
+#include "viewer/cli/commands.h"
+#include "viewer/cli/method_options.h"
+#include "viewer/cli/progress.h"
+#include "viewer/cli/scene_options.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <thread>
+
+#include <tbb/global_control.h>
+
+namespace penumbra {
+
+namespace {
+struct RenderFlags {
+  SceneOptions scene;
+  MethodOptions method;
+  std::string output, statsPath, variancePath, rawPath, aovDir;
+  uint64_t seed = 0;
+  int threads = 0;
+  float exposure = 0;
+  std::string samplerName = "ld";
+  bool quiet = false;
+  SamplerKind sampler() const {
+    return samplerName == "independent" ? SamplerKind::Independent : SamplerKind::LowDiscrepancy;
+  }
+};
+
+// The statistics every method reports.
+nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, int threads,
+                           double seconds, uint64_t rays, uint64_t samples) {
+  nlohmann::json j;
+  j["scene"] = flags.scene.scenePath;
+  j["method"] = flags.method.method;
+  j["width"] = scene.settings.width;
+  j["height"] = scene.settings.height;
+  j["spp"] = scene.settings.spp;
+  j["seed"] = flags.seed;
+  j["threads"] = threads;
+  j["max_depth"] = scene.settings.maxDepth;
+  j["sampler"] = flags.samplerName;
+  j["time_seconds"] = seconds;
+  j["rays"] = rays;
+  j["mrays_per_second"] = seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0;
+  j["samples"] = samples;
+  return j;
+}
+
+void writeStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                const RenderResult& r, int threads) {
+  nlohmann::json j = commonStats(flags, scene, threads, r.seconds, r.rays, r.samples);
+  j["nan_samples"] = r.nonFiniteSamples;
+  writeJson(path, j);
+}
+
+void createParentDirectory(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (ec)
+    throw CommandError(path + ": cannot create directory '" + parent.string() +
+                       "': " + ec.message());
+}
+
+void checkImageExtension(const std::string& flag, const std::string& path) {
+  try {
+    checkWritableImagePath(path);
+  } catch (const ImageIoError& e) {
+    throw CommandError(flag + " " + e.what());
+  }
+}
+
+void prepareOutputs(const RenderFlags& flags) {
+  // Fail on a bad output name before spending minutes rendering.
+  checkImageExtension("--output", flags.output);
+  if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
+  if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
+  if (flags.method.isLd()) {
+    if (!flags.rawPath.empty()) throw CommandError("--raw-out needs an adaptive --method");
+    if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs an adaptive --method");
+  } else if (!flags.variancePath.empty()) {
+    throw CommandError("--variance-out is only available with --method ld");
+  }
+  for (const std::string* path :
+       {&flags.output, &flags.statsPath, &flags.variancePath, &flags.rawPath})
+    if (!path->empty()) createParentDirectory(*path);
+}
+
+void printSummary(const RenderFlags& flags, const Scene& s, double seconds, uint64_t rays,
+                  const std::string& extra) {
+  if (flags.quiet) return;
+  std::printf("%s: %dx%d, %d spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(), s.settings.width,
+              s.settings.height, s.settings.spp, extra.c_str(), seconds,
+              seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0);
+}
+
+void warnNonFinite(uint64_t count) {
+  if (count > 0)
+    std::fprintf(stderr, "penumbra render: warning: %llu NaN or infinite samples were dropped\n",
+                 static_cast<unsigned long long>(count));
+}
+
+void runLd(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
+  const Scene& s = prepared.scene;
+  RenderOptions options;
+  options.sampler = flags.sampler();
+  options.seed = flags.seed;
+  options.spp = s.settings.spp;
+  options.threads = flags.threads;
+  ProgressBar bar("render " + std::to_string(s.settings.width) + "x" +
+                  std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
+                  " spp");
+  if (!flags.quiet) options.progress = [&bar](double f) { bar.update(f); };
+  const RenderResult result = renderImage(prepared, options);
+  bar.finish();
+
+  writeImage(flags.output, result.image, flags.exposure);
+  if (!flags.variancePath.empty()) writeImage(flags.variancePath, result.varianceOfMean);
+  if (!flags.statsPath.empty()) writeStats(flags.statsPath, flags, s, result, threads);
+  printSummary(flags, s, result.seconds, result.rays, "");
+  warnNonFinite(result.nonFiniteSamples);
+}
+
+void writeProgressiveStats(const std::string& path, const RenderFlags& flags, const Scene& scene,
+                           const MethodSpec& spec, const Snapshot& snap,
+                           const std::vector<nlohmann::json>& rounds, size_t memoryBytes,
+                           int threads) {
+  const double pixels = double(snap.width) * snap.height;
+  nlohmann::json j = commonStats(flags, scene, threads, snap.seconds, snap.rays, snap.keptSamples);
+  j["method"] = toString(spec.kind);
+  j["description"] = describe(spec.kind);
+  j["kept_spp"] = double(snap.keptSamples) / pixels;
+  j["traced_spp"] = double(snap.tracedSamples) / pixels;
+  j["rounds"] = snap.round;
+  j["nan_samples"] = snap.nonFiniteSamples;
+  j["rejected_samples"] = snap.rejectedSamples;
+  j["phases"] = {{"trace", snap.times.trace},
+                 {"train", snap.times.train},
+                 {"select", snap.times.select},
+                 {"reconstruct", snap.times.reconstruct}};
+  j["adaptive_overhead"] =
+      snap.times.total() > 0
+          ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
+          : 0.0;
+  j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
+  if (spec.kind == MethodKind::Bp) {
+    const BpConfig& config = spec.bp;
+    j["preset"] = flags.method.preset;
+    j["config"] = {{"outlier_removal", config.outlierRemoval}, {"warping", config.warping},
+                   {"stratified_mean", config.stratifiedMean}, {"sigma_c", config.filter.sigmaC},
+                   {"inputs", config.network.inputs},          {"nit", config.network.epochs}};
+    j["coarse_spp"] = config.effectiveCoarseSpp();
+    j["training_gflops"] = snap.trainingKernelSeconds > 0
+                               ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
+                               : 0.0;
+    j["training_simd"] = networkSimdName();
+    // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
+    // filtering are, so both histograms are part of every run's record.
+    j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
+    std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
+    for (uint8_t a : snap.alphaIndex)
+      if (a < alphaCounts.size()) ++alphaCounts[a];
+    j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
+  } else {
+    const AllocationConfig& a = spec.allocation;
+    j["config"] = {{"initial_spp", a.initialSpp > 0 ? a.initialSpp : std::min(4, spec.spp)},
+                   {"batch", a.batch > 0 ? a.batch : spec.spp},
+                   {"rounds", a.rounds}};
+    if (spec.kind == MethodKind::FDiv) j["config"]["divergence"] = flags.method.divergence;
+    if (spec.kind == MethodKind::Gem) j["config"]["gamma"] = spec.gamma;
+    if (!snap.alphaIndex.empty()) {
+      std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
+      for (uint8_t a : snap.alphaIndex)
+        if (a < counts.size()) ++counts[a];
+      j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
+    }
+  }
+  j["per_round"] = rounds;
+  writeJson(path, j);
+}
+
+// Every method but plain LD: rounds until the budget is spent, then the final snapshot.
+void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
+  const Scene& s = prepared.scene;
+  const MethodSpec spec = flags.method.spec(s.settings.spp, flags.seed, flags.sampler());
+  std::unique_ptr<tbb::global_control> limit;
+  if (flags.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  size_t(flags.threads));
+  auto method = makeMethod(prepared, spec);
+  const int maxRounds = spec.kind == MethodKind::Bp ? spec.bp.maxRounds : spec.allocation.rounds;
+  ProgressBar bar(flags.method.method + " " + std::to_string(s.settings.width) + "x" +
+                  std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
+                  " spp");
+  std::vector<nlohmann::json> rounds;
+  const double pixels = double(s.settings.width) * s.settings.height;
+  const bool wantRounds = !flags.statsPath.empty();
+  while (!method->done()) {
+    method->runRound(nullptr);
+    if (wantRounds) {
+      const auto snap = method->snapshot(false);
+      nlohmann::json round = {
+          {"round", snap->round},
+          {"kept_spp", double(snap->keptSamples) / pixels},
+          {"traced_spp", double(snap->tracedSamples) / pixels},
+          {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+          {"seconds", snap->seconds}};
+      if (spec.kind == MethodKind::Bp) {
+        size_t difficult = 0;
+        for (size_t p = 0; p < snap->bias.size(); ++p)
+          difficult +=
+              snap->bias[p] > spec.bp.psi && snap->networkError[p] > spec.bp.network.errorThreshold;
+        round["difficult_pixels"] = difficult;
+      }
+      rounds.push_back(round);
+    }
+    if (!flags.quiet) bar.update(std::min(1.0, double(method->roundsDone()) / (maxRounds + 1)));
+  }
+  const auto snap = method->snapshot();
+  bar.finish();
+
+  const bool reconstructed = spec.kind != MethodKind::Bp || spec.bp.reconstruct;
+  writeImage(flags.output, reconstructed ? snap->reconstructed : snap->raw, flags.exposure);
+  if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
+  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, spec.bp.filter.alphas);
+  if (!flags.statsPath.empty())
+    writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
+                          threads);
+  char extra[96];
+  std::snprintf(extra, sizeof extra, " (%.1f traced), %d rounds",
+                double(snap->tracedSamples) / pixels, snap->round);
+  printSummary(flags, s, snap->seconds, snap->rays, extra);
+  warnNonFinite(snap->nonFiniteSamples);
+}
+
+void run(const RenderFlags& flags) {
+  prepareOutputs(flags);
+  Scene scene = loadSceneWithOptions(flags.scene);
+  auto prepared = prepareScene(std::move(scene));
+  const int threads =
+      flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  if (flags.method.isLd())
+    runLd(flags, *prepared, threads);
+  else
+    runProgressive(flags, *prepared, threads);
+}
+}  // namespace
+
+std::string& commandLine() {
+  static std::string line;
+  return line;
+}
+
+void writeJson(const std::string& path, const nlohmann::json& j) {
+  writeFileAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw ImageIoError(path + ": cannot write");
+  });
+}
+
+void registerRenderCommand(CLI::App& app) {
+  auto flags = std::make_shared<RenderFlags>();
+  CLI::App* c = app.add_subcommand(
+      "render", "Render a scene to an image (EXR/PFM linear, PNG tone-mapped sRGB)");
+  addSceneOptions(*c, flags->scene);
+  c->add_option("-o,--output", flags->output,
+                "Output image: .exr or .pfm (linear float) or .png (sRGB, 8 bit)")
+      ->required();
+  c->add_option("--seed", flags->seed,
+                "Random seed; the image is the same for a seed whatever the thread count");
+  c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  c->add_option("--exposure", flags->exposure, "Exposure in stops applied to PNG output")
+      ->check(CLI::Range(-40.0f, 40.0f));
+  c->add_option("--sampler", flags->samplerName,
+                "Sample generator: ld (scrambled (0,2)-sequence, default) or independent")
+      ->check(CLI::IsMember({"ld", "independent"}));
+  c->add_option("--stats", flags->statsPath,
+                "Write statistics (time, rays, Mrays/s, spp, NaN count; with --method bp also "
+                "per-phase times, rounds, kept and traced spp, bias and alpha histograms) as JSON");
+  c->add_option("--variance-out", flags->variancePath,
+                "Write the per-pixel variance of the mean (per channel) as an image, e.g. var.exr");
+  c->add_option("--raw-out", flags->rawPath,
+                "Adaptive methods: also write the raw estimate (before reconstruction, the box "
+                "mean) to this image");
+  c->add_option("--aov-dir", flags->aovDir,
+                "Adaptive methods: write the debug maps (the method's error estimate as bias; "
+                "BP also er, I', slices B and C; selected pixels, sample counts, filter scale) "
+                "as EXR and false-colour PNG into this folder");
+  c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
+  addMethodOptions(*c, flags->method);
+  c->callback([flags] { run(*flags); });
+}
+
+}  // namespace penumbra

@@ -1,0 +1,471 @@
+// `penumbra view`: the progressive viewer. With a display it opens a GLFW window (OpenGL 3.3
+// core); with --headless, or where there is no display, it renders N rounds and writes a
+// screenshot through an EGL or OSMesa context, drawing with the same code and shaders.
+#include "core/image_io.h"
+#include "viewer/app/gl/context.h"
+#include "viewer/app/headless.h"
+#include "viewer/app/view_app.h"
+#include "viewer/app/view_script.h"
+#include "viewer/cli/commands.h"
+#include "viewer/cli/method_options.h"
+#include "viewer/cli/scene_options.h"
+
+#include <glad/gl.h>
+// After glad, which provides the GL declarations.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+namespace penumbra {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct ViewFlags {
+  SceneOptions scene;
+  MethodOptions method;
+  uint64_t seed = 0;
+  int threads = 0;
+  int roundSpp = 1;
+  std::string referencePath, overlay = "none", tone = "srgb";
+  float exposure = 0.0f, blend = 0.7f;
+  bool raw = false;
+  bool headless = false, withUi = false;
+  int rounds = 4;
+  std::string screenshot, backend = "auto", windowSize, inspect;
+  std::string script, report;
+  bool continuous = false;
+};
+
+bool haveDisplay() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  return (x && *x) || (wayland && *wayland);
+}
+
+std::pair<int, int> parseSize(const std::string& text, const char* flag) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 1 ||
+      h < 1 || w > 16384 || h > 16384)
+    throw CommandError(std::string(flag) + ": expected WxH with sizes in 1..16384, got '" + text +
+                       "'");
+  return {w, h};
+}
+
+ViewOptions makeOptions(const ViewFlags& f) {
+  ViewOptions o;
+  Scene scene = loadSceneWithOptions(f.scene);
+  o.targetSpp = f.scene.spp ? *f.scene.spp : 0;
+  o.scene = prepareScene(std::move(scene));
+  o.method = f.method.method;
+  o.bp = f.method.bpConfig(16, f.seed, SamplerKind::LowDiscrepancy);
+  o.baseline = f.method.spec(16, f.seed, SamplerKind::LowDiscrepancy);
+  o.seed = f.seed;
+  o.threads = f.threads;
+  o.roundSpp = f.roundSpp;
+  const auto overlay = overlayByName(f.overlay);
+  if (!overlay) {
+    std::string names = "none";
+    for (const OverlayInfo& i : overlayList()) names += std::string(", ") + i.name;
+    throw CommandError("--overlay: unknown overlay '" + f.overlay + "' (expected one of: " + names +
+                       ")");
+  }
+  o.overlay = *overlay;
+  o.blend = f.blend;
+  o.display.exposure = f.exposure;
+  o.display.curve = f.tone == "filmic" ? ToneCurve::Filmic : ToneCurve::Srgb;
+  o.showRaw = f.raw;
+  if (!f.referencePath.empty()) {
+    auto reference = std::make_shared<Image>(readImage(f.referencePath));
+    const Scene& s = o.scene->scene;
+    if (reference->width != s.settings.width || reference->height != s.settings.height)
+      throw CommandError(
+          "--reference: " + f.referencePath + " is " + std::to_string(reference->width) + "x" +
+          std::to_string(reference->height) + ", the render " + std::to_string(s.settings.width) +
+          "x" + std::to_string(s.settings.height));
+    o.reference = reference;
+    o.referencePath = f.referencePath;
+  }
+  return o;
+}
+
+std::string defaultScreenshot(const ViewFlags& f) {
+  const std::string stem = std::filesystem::path(f.scene.scenePath).stem().string();
+  std::filesystem::create_directories("out");
+  return "out/" + stem + "_view.png";
+}
+
+void writeReport(const std::string& path, const ViewerApp& app, const std::string& backend,
+                 double wallSeconds) {
+  if (path.empty()) return;
+  nlohmann::json j;
+  j["wall_seconds"] = wallSeconds;
+  j["frames_per_second"] = wallSeconds > 0 ? double(app.frameStats().frames) / wallSeconds : 0.0;
+  const FrameStats& f = app.frameStats();
+  j["backend"] = backend;
+  j["frames"] = f.frames;
+  j["mean_frame_ms"] = f.frames ? f.totalSeconds / double(f.frames) * 1e3 : 0.0;
+  j["p95_frame_ms"] = f.percentile(0.95) * 1e3;
+  j["max_frame_ms"] = f.maxSeconds * 1e3;
+  j["restarts"] = app.restarts();
+  // Restart to first picture: how soon a camera move shows something.
+  const std::vector<double>& first = app.firstPictureTimes();
+  double sum = 0, worst = 0;
+  for (double t : first) {
+    sum += t;
+    worst = std::max(worst, t);
+  }
+  j["first_pictures"] = first.size();
+  j["first_picture_ms_mean"] = first.empty() ? 0.0 : sum / double(first.size()) * 1e3;
+  j["first_picture_ms_max"] = worst * 1e3;
+  const auto snap = app.snapshot();
+  j["round"] = snap ? snap->round : 0;
+  j["method"] = snap ? snap->method : "";
+  j["kept_spp"] =
+      snap ? double(snap->keptSamples) / std::max(1.0, double(snap->width) * snap->height) : 0.0;
+  j["state"] = toString(const_cast<ViewerApp&>(app).session().state());
+  j["message"] = app.lastMessage();
+  writeJson(path, j);
+}
+
+// ---- Headless ----------------------------------------------------------------------------
+
+void runHeadless(const ViewFlags& f) {
+  HeadlessRequest request;
+  request.backend = f.backend == "egl"      ? HeadlessBackend::Egl
+                    : f.backend == "osmesa" ? HeadlessBackend::OsMesa
+                                            : HeadlessBackend::Auto;
+  request.rounds = f.rounds;
+  request.withUi = f.withUi;
+  if (!f.windowSize.empty())
+    std::tie(request.width, request.height) = parseSize(f.windowSize, "--window-size");
+  if (!f.inspect.empty()) {
+    char comma = 0, extra = 0;
+    if (std::sscanf(f.inspect.c_str(), "%d%c%d%c", &request.inspectX, &comma, &request.inspectY,
+                    &extra) != 3 ||
+        comma != ',')
+      throw CommandError("--inspect: expected X,Y, got '" + f.inspect + "'");
+  }
+  const std::string out = f.screenshot.empty() ? defaultScreenshot(f) : f.screenshot;
+  if (lowercaseExtension(out) != ".png")
+    throw CommandError("--screenshot: expected a .png file, got '" + out + "'");
+  HeadlessFrame frame;
+  try {
+    frame = renderHeadless(makeOptions(f), request);
+  } catch (const GlError& e) {
+    throw CommandError(e.what());
+  }
+  std::fprintf(stderr, "penumbra view: headless, %s\n", frame.description.c_str());
+  if (!frame.failure.empty()) throw CommandError("rendering failed: " + frame.failure);
+  writePng8(out, frame.width, frame.height, 3, frame.rgb);
+  const auto& snap = frame.snapshot;
+  std::printf("%s: %dx%d, %s, %d rounds, %s, overlay %s\n", out.c_str(), frame.width, frame.height,
+              snap ? snap->method.c_str() : "-", snap ? snap->round : 0, frame.backend.c_str(),
+              f.overlay.c_str());
+  if (!frame.overlayUnavailable.empty())
+    std::fprintf(stderr, "penumbra view: overlay %s unavailable: %s\n", f.overlay.c_str(),
+                 frame.overlayUnavailable.c_str());
+}
+
+// ---- Window ------------------------------------------------------------------------------
+
+struct Window final : ScriptHost {
+  GLFWwindow* window = nullptr;
+  ViewerApp* app = nullptr;
+  bool iconified = false;
+  bool dirty = true;
+  Clock::time_point lastInput = Clock::now();
+
+  // GLFW reports the cursor in window coordinates; the app works in framebuffer pixels.
+  double scaleX() const {
+    int w = 0, fw = 0, h = 0;
+    glfwGetWindowSize(window, &w, &h);
+    glfwGetFramebufferSize(window, &fw, &h);
+    return w > 0 ? double(fw) / w : 1.0;
+  }
+  void touched() {
+    dirty = true;
+    lastInput = Clock::now();
+  }
+  void key(int k, bool down, int mods) override {
+    touched();
+    app->keyEvent(k, down, mods);
+  }
+  void mouseButton(int button, bool down, double x, double y, int mods) override {
+    touched();
+    app->mouseButton(button, down, x, y, mods);
+  }
+  void mouseMove(double x, double y) override {
+    touched();
+    app->mouseMoved(x, y);
+  }
+  void scroll(double dy, double x, double y, int mods) override {
+    touched();
+    app->scrolled(dy, x, y, mods);
+  }
+  void resize(int w, int h) override {
+    touched();
+    glfwSetWindowSize(window, std::max(w, 1), std::max(h, 1));
+    if (w == 0 || h == 0) app->resized(w, h);  // GLFW refuses a zero size; the app must not
+  }
+  void iconify(bool minimise) override {
+    touched();
+    if (minimise)
+      glfwIconifyWindow(window);
+    else
+      glfwRestoreWindow(window);
+  }
+  void screenshot(const std::string& path) override {
+    touched();
+    app->requestScreenshot(path);
+  }
+  void quit() override { glfwSetWindowShouldClose(window, GLFW_TRUE); }
+  bool roundShown() override { return app->roundShown(); }
+};
+
+Window* windowOf(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPointer(w)); }
+
+void installCallbacks(GLFWwindow* window) {
+  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
+    if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureKeyboard) return;
+    if (action == GLFW_REPEAT) return;
+    windowOf(w)->key(key, action == GLFW_PRESS, mods);
+  });
+  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+    Window* self = windowOf(w);
+    const bool down = action == GLFW_PRESS;
+    if (down && ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) return;
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    const double s = self->scaleX();
+    self->mouseButton(button, down, x * s, y * s, mods);
+  });
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+    Window* self = windowOf(w);
+    const double s = self->scaleX();
+    self->mouseMove(x * s, y * s);
+  });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+    if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) return;
+    Window* self = windowOf(w);
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    const double s = self->scaleX();
+    int mods = 0;
+    if (glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
+        glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS)
+      mods |= GLFW_MOD_CONTROL;
+    self->scroll(dy, x * s, y * s, mods);
+  });
+  glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int width, int height) {
+    Window* self = windowOf(w);
+    self->touched();
+    self->app->resized(width, height);
+  });
+  glfwSetWindowIconifyCallback(window, [](GLFWwindow* w, int iconified) {
+    windowOf(w)->iconified = iconified == GLFW_TRUE;
+    windowOf(w)->touched();
+  });
+  glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { windowOf(w)->dirty = true; });
+}
+
+void runWindow(const ViewFlags& f) {
+  std::optional<InputScript> script;
+  if (!f.script.empty()) script = InputScript::load(f.script);
+  ViewOptions options = makeOptions(f);
+  options.background = true;  // the UI thread keeps its frame rate
+  int width = 0, height = 0;
+  if (!f.windowSize.empty()) {
+    std::tie(width, height) = parseSize(f.windowSize, "--window-size");
+  } else {
+    // The image at zoom 1 right of the panel, with room for a legend below.
+    width = std::max(options.scene->scene.settings.width + 360, 900);
+    height = std::max(options.scene->scene.settings.height + 80, 640);
+  }
+
+  glfwSetErrorCallback([](int code, const char* text) {
+    std::fprintf(stderr, "penumbra view: GLFW error %d: %s\n", code, text);
+  });
+  if (!glfwInit())
+    throw CommandError("cannot initialise GLFW (is DISPLAY set to a running X server?)");
+  struct GlfwGuard {
+    ~GlfwGuard() { glfwTerminate(); }
+  } glfwGuard;
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  const std::string title = "Penumbra - " + f.scene.scenePath;
+  GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+  if (!window) throw CommandError("cannot open an OpenGL 3.3 core window");
+  glfwMakeContextCurrent(window);
+  std::string gl;
+  try {
+    gl = loadGl(reinterpret_cast<GlProcLoader>(glfwGetProcAddress), "window");
+  } catch (const GlError& e) {
+    glfwDestroyWindow(window);
+    throw CommandError(e.what());
+  }
+  glfwSwapInterval(0);  // we pace frames ourselves; a blocking swap would stall input
+  std::fprintf(stderr, "penumbra view: window %dx%d, %s\n", width, height, gl.c_str());
+
+  const auto opened = Clock::now();
+  Window host;
+  host.window = window;
+  ViewerApp app(std::move(options));
+  host.app = &app;
+  app.setRecordFrameTimes(false);
+  glfwSetWindowUserPointer(window, &host);
+  installCallbacks(window);
+  int status = 0;
+  std::string failure;
+  bool imguiPlatform = false;
+  try {
+    app.initGl(true);
+    // Installed after ours, ImGui's callbacks chain to them.
+    imguiPlatform = ImGui_ImplGlfw_InitForOpenGL(window, true);
+    const auto start = Clock::now();
+    auto last = start;
+    bool scriptRunning = script.has_value();
+    while (!glfwWindowShouldClose(window) && !app.quitRequested()) {
+      const auto now = Clock::now();
+      const double dt = std::chrono::duration<double>(now - last).count();
+      last = now;
+      if (scriptRunning)
+        scriptRunning = script->step(std::chrono::duration<double>(now - start).count(), host);
+      if (script && !scriptRunning) break;
+      app.fly(dt);
+      if (app.update()) host.dirty = true;
+      int fw = 0, fh = 0;
+      glfwGetFramebufferSize(window, &fw, &fh);
+      // Hover feedback in the panel needs frames for a moment after input.
+      const bool recentInput = std::chrono::duration<double>(now - host.lastInput).count() < 0.5;
+      if (!host.iconified && fw > 0 && fh > 0 && (host.dirty || recentInput || f.continuous)) {
+        const auto frameStart = Clock::now();
+        ImGui_ImplGlfw_NewFrame();
+        app.drawFrame(fw, fh, true, dt);
+        const auto drawn = Clock::now();
+        if (std::getenv("PENUMBRA_DEBUG_FRAMES")) glFinish();
+        const auto finished = Clock::now();
+        glfwSwapBuffers(window);
+        if (std::getenv("PENUMBRA_DEBUG_FRAMES"))
+          std::fprintf(stderr, "draw %.1f finish %.1f swap %.1f ms\n",
+                       std::chrono::duration<double>(drawn - frameStart).count() * 1e3,
+                       std::chrono::duration<double>(finished - drawn).count() * 1e3,
+                       std::chrono::duration<double>(Clock::now() - finished).count() * 1e3);
+        app.recordFrame(std::chrono::duration<double>(Clock::now() - frameStart).count());
+        host.dirty = false;
+      }
+      // At most 60 frames per second; events wake the loop early.
+      const double spent = std::chrono::duration<double>(Clock::now() - now).count();
+      glfwWaitEventsTimeout(std::max(0.0, 1.0 / 60 - spent));
+    }
+  } catch (const std::exception& e) {
+    failure = e.what();
+    status = 1;
+  }
+  if (imguiPlatform) ImGui_ImplGlfw_Shutdown();
+  app.releaseGl();
+  glfwDestroyWindow(window);
+  writeReport(f.report, app, "glfw", std::chrono::duration<double>(Clock::now() - opened).count());
+  const FrameStats& stats = app.frameStats();
+  std::fprintf(stderr, "penumbra view: %llu frames, mean %.1f ms, p95 %.1f ms, %d restarts\n",
+               (unsigned long long)stats.frames,
+               stats.frames ? stats.totalSeconds / double(stats.frames) * 1e3 : 0.0,
+               stats.percentile(0.95) * 1e3, app.restarts());
+  if (status) throw CommandError(failure);
+}
+
+void run(const ViewFlags& f) {
+  if (f.headless || !haveDisplay()) {
+    if (!f.headless && f.script.empty())
+      std::fprintf(stderr,
+                   "penumbra view: no display (DISPLAY is not set): writing a headless "
+                   "screenshot instead\n");
+    if (!f.script.empty() && !f.headless) throw CommandError("--script needs a display");
+    runHeadless(f);
+    return;
+  }
+  runWindow(f);
+}
+
+}  // namespace
+
+void registerViewCommand(CLI::App& app) {
+  auto flags = std::make_shared<ViewFlags>();
+  // An artist opening a scene gets the adaptive method in its measured-best configuration;
+  // --preset paper and --method ld are one flag away.
+  flags->method.method = "bp";
+  flags->method.preset = "tuned";
+  CLI::App* c = app.add_subcommand(
+      "view", "Open the progressive viewer (a window; headless screenshots with --headless)");
+  addSceneOptions(*c, flags->scene);
+  c->add_option("--seed", flags->seed,
+                "Random seed (the image after each round depends only on it)");
+  c->add_option("--threads", flags->threads, "Render threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  c->add_option("--round-spp", flags->roundSpp, "Kept samples per pixel added by each round")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  c->add_option("--reference", flags->referencePath,
+                "Reference image (.exr): the error overlay and the MSE plot compare with it");
+  c->add_option("--overlay", flags->overlay,
+                "Overlay at start: none, bias, selected, alpha, samples, traced, network_error, "
+                "reference_error")
+      ->capture_default_str();
+  c->add_option("--blend", flags->blend, "Overlay strength in [0, 1]")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
+  c->add_option("--exposure", flags->exposure, "Display exposure in stops")
+      ->check(CLI::Range(-40.0f, 40.0f));
+  c->add_option("--tone", flags->tone, "Display tone curve: srgb or filmic")
+      ->check(CLI::IsMember({"srgb", "filmic"}))
+      ->capture_default_str();
+  c->add_flag("--raw", flags->raw, "Show the raw estimate instead of the reconstruction");
+  const char* headless = "Headless";
+  c->add_flag("--headless", flags->headless,
+              "Render --rounds rounds without a window and write --screenshot (also the "
+              "behaviour when no display is set)")
+      ->group(headless);
+  c->add_option("--rounds", flags->rounds, "Headless: rounds to render before the screenshot")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str()
+      ->group(headless);
+  c->add_option("--screenshot", flags->screenshot,
+                "Headless: PNG to write (default out/<scene>_view.png)")
+      ->group(headless);
+  c->add_option("--backend", flags->backend,
+                "Headless GL: auto (EGL, then OSMesa), egl (GPU device or Mesa surfaceless) or "
+                "osmesa")
+      ->check(CLI::IsMember({"auto", "egl", "osmesa"}))
+      ->capture_default_str()
+      ->group(headless);
+  c->add_flag("--with-ui", flags->withUi, "Headless: draw the panel (and inspector) too")
+      ->group(headless);
+  c->add_option("--inspect", flags->inspect, "Inspect pixel X,Y (headless: before the screenshot)")
+      ->group(headless);
+  c->add_option("--window-size", flags->windowSize,
+                "Window or screenshot size WxH (default: fits the image, and the panel in a "
+                "window)");
+  c->add_option("--script", flags->script,
+                "Window: drive the viewer with scripted input (see viewer/app/view_script.h), then "
+                "close");
+  c->add_option(
+      "--report", flags->report,
+      "Window: write frame times, frames per second, restarts and the final round as JSON on exit");
+  c->add_flag("--continuous", flags->continuous,
+              "Window: redraw every frame even when nothing changed (to measure frame rate)");
+  addMethodOptions(*c, flags->method, false);
+  c->callback([flags] { run(*flags); });
+}
+
+}  // namespace penumbra

@@ -1,0 +1,99 @@
+#include "viewer/cli/scene_options.h"
+
+#include "scene/scene_loader.h"
+#include "viewer/cli/commands.h"
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace penumbra {
+
+namespace {
+std::vector<float> parseNumbers(const std::string& flag, const std::string& text, size_t count,
+                                char separator) {
+  std::vector<float> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, separator)) {
+    try {
+      size_t used = 0;
+      const float v = std::stof(item, &used);
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument(item);
+      values.push_back(v);
+    } catch (const std::exception&) {
+      values.clear();
+      break;
+    }
+  }
+  if (values.size() != count) {
+    const std::string form = count == 3 ? "x,y,z" : (separator == 'x' ? "WxH" : "a,b");
+    throw CommandError(flag + ": expected " + form + ", got '" + text + "'");
+  }
+  return values;
+}
+
+vec3 parseVec3(const std::string& flag, const std::string& text) {
+  const auto v = parseNumbers(flag, text, 3, ',');
+  return {v[0], v[1], v[2]};
+}
+}  // namespace
+
+void addSceneOptions(CLI::App& c, SceneOptions& o) {
+  c.add_option("scene", o.scenePath,
+               "Scene file: a .json scene (docs/scene-format.md) or a .obj with its .mtl")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c.add_option("--spp", o.spp, "Samples per pixel (default: the scene's render.spp)")
+      ->check(CLI::Range(1, 1 << 20));
+  c.add_option("--size", o.size, "Image size WxH, e.g. 512x512 (default: the scene's render size)");
+  c.add_option("--max-depth", o.maxDepth,
+               "Maximum path depth: 0 = emitters only, 1 = direct light, ...")
+      ->check(CLI::Range(0, 1024));
+  c.add_option("--eye", o.eye, "Camera position x,y,z");
+  c.add_option("--look-at", o.lookAt, "Point the camera looks at, x,y,z");
+  c.add_option("--up", o.up, "Camera up vector x,y,z");
+  c.add_option("--fov", o.fov, "Vertical field of view in degrees")
+      ->check(CLI::Range(0.01f, 179.9f));
+  c.add_option("--lens-radius", o.lensRadius,
+               "Thin-lens aperture radius in scene units; 0 = pinhole")
+      ->check(CLI::Range(0.0f, 1e6f));
+  c.add_option("--focus-distance", o.focusDistance,
+               "Distance to the plane in focus; 0 = distance to the look-at point")
+      ->check(CLI::Range(0.0f, 1e9f));
+  c.add_option("--shutter", o.shutter,
+               "Shutter interval open,close in scene time [0,1], e.g. 0,1; 0,0 freezes motion");
+}
+
+Scene loadSceneWithOptions(const SceneOptions& o) {
+  Scene scene = loadScene(o.scenePath);
+  if (!o.size.empty()) {
+    const auto wh = parseNumbers("--size", o.size, 2, 'x');
+    if (wh[0] < 1 || wh[1] < 1 || wh[0] > 16384 || wh[1] > 16384 || wh[0] != std::floor(wh[0]) ||
+        wh[1] != std::floor(wh[1]))
+      throw CommandError("--size: expected whole numbers between 1 and 16384, got '" + o.size +
+                         "'");
+    scene.settings.width = int(wh[0]);
+    scene.settings.height = int(wh[1]);
+  }
+  if (o.spp) scene.settings.spp = *o.spp;
+  if (o.maxDepth) scene.settings.maxDepth = *o.maxDepth;
+  Camera& cam = scene.camera;
+  if (!o.eye.empty()) cam.eye = parseVec3("--eye", o.eye);
+  if (!o.lookAt.empty()) cam.lookAt = parseVec3("--look-at", o.lookAt);
+  if (!o.up.empty()) cam.up = parseVec3("--up", o.up);
+  if (o.fov) cam.vfovDegrees = *o.fov;
+  if (o.lensRadius) cam.lensRadius = *o.lensRadius;
+  if (o.focusDistance) cam.focusDistance = *o.focusDistance;
+  if (!o.shutter.empty()) {
+    const auto s = parseNumbers("--shutter", o.shutter, 2, ',');
+    if (!(s[0] >= 0 && s[1] <= 1 && s[0] <= s[1]))
+      throw CommandError("--shutter: expected open,close with 0 <= open <= close <= 1, got '" +
+                         o.shutter + "'");
+    cam.shutterOpen = s[0];
+    cam.shutterClose = s[1];
+  }
+  return scene;
+}
+
+}  // namespace penumbra
