@@ -1,0 +1,54 @@
+// The BP method's state, which its phases (pixel_store, trainer, error_estimate, candidates)
+// read and write and method.cpp drives round by round. Internal to methods/bp.
+#pragma once
+
+#include "methods/bp/config.h"
+#include "methods/bp/network.h"
+#include "methods/bp/pixel_store.h"
+#include "methods/common.h"
+#include "methods/progressive.h"
+#include "trace/integrator.h"
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra::bp {
+
+struct BpState {
+  BpState(const PreparedScene& scene, const BpConfig& bpConfig);
+
+  const PreparedScene& prepared;
+  const BpConfig config;
+  const int width, height;
+  const size_t pixelCount;
+  const int slicesPerPixel;
+  const int coarseSpp;
+  ToneMap tone;  // from the coarse pass
+
+  PixelStore store;
+  std::vector<PixelNet> nets;
+  std::vector<uint8_t> selected;    // 1 where the last round added samples
+  std::vector<uint32_t> lastOrder;  // the last round's ranking
+  std::atomic<int64_t> inspected{-1};
+  std::vector<InspectedCandidate> inspectedCandidates;
+
+  int rounds = 0;
+  int adaptiveRounds = 0;
+  bool stalled = false;  // a round found no pixel to sample
+  uint64_t budget = 0;   // kept samples of the whole batch run
+  uint64_t spent = 0, kept = 0, traced = 0;
+  uint64_t trainingFlops = 0;
+  double trainingSeconds = 0;
+  method::Counters counters;
+  PhaseTimes times;
+  method::Clock::time_point start;
+
+  const PixelState& pixel(size_t p) const { return store.pixels[p]; }
+  PixelState& pixel(size_t p) { return store.pixels[p]; }
+  bool cancelled(const std::atomic<bool>* cancel) const {
+    return cancel && cancel->load(std::memory_order_relaxed);
+  }
+};
+
+}  // namespace penumbra::bp
