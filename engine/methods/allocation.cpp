@@ -37,20 +37,6 @@ std::string AllocationConfig::validate() const {
   return {};
 }
 
-const char* toString(AdaptiveCriterion criterion) {
-  switch (criterion) {
-    case AdaptiveCriterion::FDivergence:
-      return "fdiv";
-    case AdaptiveCriterion::Fuzzy:
-      return "fuzzy";
-    case AdaptiveCriterion::Cycles:
-      return "cycles";
-  }
-  return "?";
-}
-
-// ---- Error measures --------------------------------------------------------------
-
 namespace adaptive {
 
 void LuminanceSums::add(double luminance) {
@@ -60,56 +46,6 @@ void LuminanceSums::add(double luminance) {
   sumSqrt += std::sqrt(l);
   sumSquares += l * l;
   if (l > 0) sumLLogL += l * std::log(l);
-}
-
-double divergence(const LuminanceSums& s, Divergence kind) {
-  if (s.n < 2 || !(s.sum > 0)) return 0.0;
-  const double n = s.n;
-  double d = 0;
-  switch (kind) {
-    case Divergence::Hellinger:
-      // 1/2 sum (sqrt p_i - sqrt(1/N))^2 = 1 - sum sqrt(L_i) / sqrt(N sum L).
-      d = 1.0 - s.sumSqrt / std::sqrt(n * s.sum);
-      break;
-    case Divergence::KullbackLeibler:
-      // sum p_i ln(N p_i) = (1/S) sum L ln L - ln S + ln N.
-      d = s.sumLLogL / s.sum - std::log(s.sum) + std::log(n);
-      break;
-    case Divergence::ChiSquare:
-      d = n * s.sumSquares / (s.sum * s.sum) - 1.0;
-      break;
-  }
-  return std::max(0.0, d);  // rounding can leave a tiny negative for equal samples
-}
-
-double fDivergenceScore(const LuminanceSums& s, Divergence kind) {
-  if (s.n == 0) return 0.0;
-  const double mean = s.sum / s.n;
-  return mean * std::sqrt(divergence(s, kind)) / s.n;
-}
-
-double fuzzyScore(std::span<const float> values, double minimum, double maximum, double mean,
-                  uint32_t n) {
-  if (n == 0 || values.empty()) return 0.0;
-  const double range = maximum - minimum;
-  if (!(range >= 1e-4 * std::max(mean, 0.0)) || !(range > 0)) return 0.0;
-  double entropy = 0;
-  for (float v : values) {
-    const double mu = std::clamp((double(v) - minimum) / range, 0.0, 1.0);
-    if (mu > 0 && mu < 1) entropy += -mu * std::log(mu) - (1 - mu) * std::log(1 - mu);
-  }
-  entropy /= double(values.size()) * std::log(2.0);
-  const double contrast = range / (maximum + minimum + 1e-4);
-  return entropy * contrast * mean / std::sqrt(double(n));
-}
-
-double cyclesError(vec3 meanAll, vec3 meanHalf) {
-  const double sum = double(meanAll.x) + meanAll.y + meanAll.z;
-  const double norm = sum < 1.0 ? std::sqrt(std::max(0.0, sum)) : sum;
-  const double diff = std::abs(double(meanAll.x) - meanHalf.x) +
-                      std::abs(double(meanAll.y) - meanHalf.y) +
-                      std::abs(double(meanAll.z) - meanHalf.z);
-  return diff / (1e-4 + norm);
 }
 
 }  // namespace adaptive
@@ -316,154 +252,11 @@ PixelInspection AllocationMethod::inspect(int x, int y) const {
   return in;
 }
 
-// ---- F-divergence, fuzzy and Cycles criteria --------------------------------------
-
-namespace {
-
-void parallelPixels(size_t count, const std::function<void(size_t)>& body) {
+void AllocationMethod::forEachPixel(size_t count, const std::function<void(size_t)>& body) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kPixelGrain * 4),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t p = r.begin(); p < r.end(); ++p) body(p);
                     });
-}
-
-class CriterionMethod final : public AllocationMethod {
- public:
-  CriterionMethod(const PreparedScene& prepared, const AdaptiveConfig& config)
-      : AllocationMethod(prepared, config, toString(config.criterion)),
-        criterion_(config),
-        sum_(pixelCount_, glm::dvec3(0.0)) {
-    if (config.fuzzyReservoir < 1) throw std::invalid_argument("the fuzzy reservoir must be >= 1");
-    if (config.criterion == AdaptiveCriterion::Cycles) {
-      sumHalf_.assign(pixelCount_, glm::dvec3(0.0));
-      halfCount_.assign(pixelCount_, 0);
-    } else {
-      lum_.resize(pixelCount_);
-    }
-    if (config.criterion == AdaptiveCriterion::Fuzzy) {
-      values_.resize(pixelCount_);
-      minimum_.assign(pixelCount_, INFINITY);
-      maximum_.assign(pixelCount_, -INFINITY);
-    }
-  }
-
- protected:
-  void addSample(size_t p, uint32_t index, vec3 L) override {
-    sum_[p] += glm::dvec3(L);
-    const double y = std::max(0.0f, luminance(L));
-    switch (criterion_.criterion) {
-      case AdaptiveCriterion::Cycles:
-        if (index % 2 == 0) sumHalf_[p] += glm::dvec3(L);
-        ++halfCount_[p];
-        break;
-      case AdaptiveCriterion::Fuzzy: {
-        lum_[p].add(y);
-        minimum_[p] = std::min(minimum_[p], float(y));
-        maximum_[p] = std::max(maximum_[p], float(y));
-        auto& v = values_[p];
-        if (v.size() < size_t(criterion_.fuzzyReservoir)) {
-          v.push_back(float(y));
-        } else {  // reservoir sampling, keyed on (seed, pixel, index): deterministic
-          const uint64_t j = hashValues(config_.seed, p, index) % lum_[p].n;
-          if (j < v.size()) v[j] = float(y);
-        }
-        break;
-      }
-      case AdaptiveCriterion::FDivergence:
-        lum_[p].add(y);
-        break;
-    }
-  }
-
-  void computeScores(std::vector<float>& scores) override {
-    parallelPixels(pixelCount_, [&](size_t p) {
-      double s = 0;
-      switch (criterion_.criterion) {
-        case AdaptiveCriterion::FDivergence:
-          s = adaptive::fDivergenceScore(lum_[p], criterion_.divergence);
-          break;
-        case AdaptiveCriterion::Fuzzy:
-          if (lum_[p].n > 0)
-            s = adaptive::fuzzyScore(values_[p], minimum_[p], maximum_[p], lum_[p].sum / lum_[p].n,
-                                     lum_[p].n);
-          break;
-        case AdaptiveCriterion::Cycles: {
-          const uint32_t n = halfCount_[p];
-          if (n > 0)
-            s = adaptive::cyclesError(vec3(sum_[p] / double(n)),
-                                      vec3(2.0 * sumHalf_[p] / double(n)));
-          break;
-        }
-      }
-      scores[p] = std::isfinite(s) ? float(s) : 0.0f;
-    });
-    if (criterion_.criterion == AdaptiveCriterion::Cycles && criterion_.cyclesDilate)
-      dilate(scores);
-  }
-
-  vec3 pixelMean(size_t p) const override {
-    uint32_t n = 0;
-    if (criterion_.criterion == AdaptiveCriterion::Cycles)
-      n = halfCount_[p];
-    else
-      n = lum_[p].n;
-    return n > 0 ? vec3(sum_[p] / double(n)) : vec3(0.0f);
-  }
-
-  size_t statisticsBytes() const override {
-    size_t bytes = (sum_.capacity() + sumHalf_.capacity()) * sizeof(glm::dvec3) +
-                   lum_.capacity() * sizeof(adaptive::LuminanceSums) +
-                   halfCount_.capacity() * sizeof(uint32_t) +
-                   (minimum_.capacity() + maximum_.capacity()) * sizeof(float);
-    for (const auto& v : values_) bytes += sizeof(v) + v.capacity() * sizeof(float);
-    return bytes;
-  }
-
-  std::string scoreName() const override {
-    switch (criterion_.criterion) {
-      case AdaptiveCriterion::FDivergence:
-        return "f-divergence score";
-      case AdaptiveCriterion::Fuzzy:
-        return "fuzzy uncertainty";
-      case AdaptiveCriterion::Cycles:
-        return "half-buffer error";
-    }
-    return "score";
-  }
-
- private:
-  // Unconverged regions grow by one pixel in x, then in y: a 3x3 maximum filter.
-  void dilate(std::vector<float>& scores) const {
-    std::vector<float> tmp(scores.size());
-    for (int y = 0; y < height_; ++y)
-      for (int x = 0; x < width_; ++x) {
-        float m = scores[size_t(y) * width_ + x];
-        if (x > 0) m = std::max(m, scores[size_t(y) * width_ + x - 1]);
-        if (x + 1 < width_) m = std::max(m, scores[size_t(y) * width_ + x + 1]);
-        tmp[size_t(y) * width_ + x] = m;
-      }
-    for (int y = 0; y < height_; ++y)
-      for (int x = 0; x < width_; ++x) {
-        float m = tmp[size_t(y) * width_ + x];
-        if (y > 0) m = std::max(m, tmp[size_t(y - 1) * width_ + x]);
-        if (y + 1 < height_) m = std::max(m, tmp[size_t(y + 1) * width_ + x]);
-        scores[size_t(y) * width_ + x] = m;
-      }
-  }
-
-  AdaptiveConfig criterion_;
-  std::vector<glm::dvec3> sum_, sumHalf_;
-  std::vector<adaptive::LuminanceSums> lum_;
-  std::vector<uint32_t> halfCount_;  // Cycles: finite samples per pixel
-  std::vector<std::vector<float>> values_;
-  std::vector<float> minimum_, maximum_;
-};
-
-}  // namespace
-
-std::unique_ptr<ProgressiveMethod> makeAdaptiveMethod(const PreparedScene& prepared,
-                                                      const AdaptiveConfig& config) {
-  return std::make_unique<CriterionMethod>(prepared, config);
 }
 
 }  // namespace penumbra

@@ -19,6 +19,7 @@
 #include "trace/integrator.h"
 #include "trace/sampler.h"
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -43,29 +44,6 @@ struct AllocationConfig {
   std::string validate() const;
 };
 
-// The criteria of §10.2, §10.3 and §10.5 (GEM, §10.4, is gem_method.h).
-enum class AdaptiveCriterion {
-  FDivergence,  // Rigau et al. 2003: mean luminance x sqrt(divergence from uniform) / N
-  Fuzzy,        // our re-implementation of Xu et al. 2008's fuzzy uncertainty [A22]
-  Cycles        // Blender Cycles' half-buffer error (Dammertz et al. 2010)
-};
-enum class Divergence { Hellinger, KullbackLeibler, ChiSquare };  // [A21]
-
-struct AdaptiveConfig : AllocationConfig {
-  AdaptiveCriterion criterion = AdaptiveCriterion::FDivergence;
-  Divergence divergence = Divergence::Hellinger;
-  int fuzzyReservoir = 1024;  // luminances kept per pixel for the fuzzy entropy
-  bool cyclesDilate = true;   // Cycles dilates unconverged pixels by 1 px in x, then y
-};
-
-const char* toString(AdaptiveCriterion criterion);
-
-// Throws std::invalid_argument with validate()'s message on a bad configuration. The
-// prepared scene must outlive the method.
-std::unique_ptr<ProgressiveMethod> makeAdaptiveMethod(const PreparedScene& prepared,
-                                                      const AdaptiveConfig& config);
-
-// The error measures on one pixel's samples, exposed for tests.
 namespace adaptive {
 
 // Running sums of a pixel's sample luminances (linear, clamped at 0): enough for all
@@ -75,24 +53,6 @@ struct LuminanceSums {
   double sum = 0, sumSqrt = 0, sumSquares = 0, sumLLogL = 0;
   void add(double luminance);
 };
-// The divergence of p_i = L_i / sum L from uniform q_i = 1/N: Hellinger
-// 1/2 sum (sqrt p_i - sqrt(1/N))^2, Kullback-Leibler sum p_i ln(N p_i), chi-square
-// N sum p_i^2 - 1. 0 when N < 2 or sum L = 0.
-double divergence(const LuminanceSums& s, Divergence kind);
-// Rigau's refinement score with eq. 15's 1/N: mean L x sqrt(divergence) / N.
-double fDivergenceScore(const LuminanceSums& s, Divergence kind);
-
-// The stand-in fuzzy uncertainty of §10.3 on a pixel's luminances: De Luca-Termini
-// entropy of the min-max normalised values, times the contrast (max-min)/(max+min+eps),
-// times mean / sqrt(N). `values` may be a subsample of the pixel's n samples (their
-// exact min, max and mean are passed separately); 0 when the range < 1e-4 x mean.
-double fuzzyScore(std::span<const float> values, double minimum, double maximum, double mean,
-                  uint32_t n);
-
-// Cycles' error of a pixel: sum_c |I_c - A_c| / (1e-4 + N(I)), I the mean of all samples,
-// A twice the class-A (even index) samples' sum over all samples, N(I) = sqrt(sum I) when
-// sum I < 1, else sum I.
-double cyclesError(vec3 meanAll, vec3 meanHalf);
 
 }  // namespace adaptive
 
@@ -131,6 +91,8 @@ class AllocationMethod : public ProgressiveMethod {
                               const std::atomic<bool>* cancel);
   virtual size_t statisticsBytes() const = 0;
   virtual std::string scoreName() const { return "score"; }
+  // Runs body(p) for every pixel p in [0, count), in parallel.
+  static void forEachPixel(size_t count, const std::function<void(size_t)>& body);
 
   const PreparedScene& prepared_;
   AllocationConfig config_;

@@ -1,4 +1,4 @@
-// Small pieces the progressive methods (bp_method.cpp, ld_method.cpp, allocation.cpp) share:
+// Small pieces the progressive methods (bp/, ld.cpp, allocation.cpp and the baselines) share:
 // wall-clock timing, the grain of their pixel loops and their ray
 // counters. Internal to engine/.
 #pragma once

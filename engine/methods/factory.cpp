@@ -98,16 +98,21 @@ std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared, con
       c.gamma = s.gamma;
       return makeGemMethod(prepared, c);
     }
-    case MethodKind::FDiv:
-    case MethodKind::Fuzzy:
-    case MethodKind::Cycles: {
-      AdaptiveConfig c;
+    case MethodKind::FDiv: {
+      FDivConfig c;
       static_cast<AllocationConfig&>(c) = allocationOf(s);
-      c.criterion = s.kind == MethodKind::FDiv    ? AdaptiveCriterion::FDivergence
-                    : s.kind == MethodKind::Fuzzy ? AdaptiveCriterion::Fuzzy
-                                                  : AdaptiveCriterion::Cycles;
       c.divergence = s.divergence;
-      return makeAdaptiveMethod(prepared, c);
+      return makeFDivMethod(prepared, c);
+    }
+    case MethodKind::Fuzzy: {
+      FuzzyConfig c;
+      static_cast<AllocationConfig&>(c) = allocationOf(s);
+      return makeFuzzyMethod(prepared, c);
+    }
+    case MethodKind::Cycles: {
+      CyclesConfig c;
+      static_cast<AllocationConfig&>(c) = allocationOf(s);
+      return makeCyclesMethod(prepared, c);
     }
   }
   throw std::invalid_argument("unknown method");

@@ -2,8 +2,10 @@
 // use to run any of them with the same settings (ALGORITHM.md §11's fair comparison).
 #pragma once
 
-#include "methods/allocation.h"
 #include "methods/bp/method.h"
+#include "methods/cycles.h"
+#include "methods/fdiv.h"
+#include "methods/fuzzy.h"
 #include "methods/gem.h"
 #include "methods/ld.h"
 
