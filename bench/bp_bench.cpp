@@ -56,9 +56,8 @@ int main(int argc, char** argv) {
 
     const double peakBefore = measureFmaPeakGflops(threads, 1.0);
     BpConfig config;
-    config.spp = spp;
     if (nit >= 0) config.network.epochs = nit;
-    auto method = makeBpMethod(*prepared, config);
+    auto method = makeBpMethod(*prepared, RunShape::batch(spp), config);
     while (!method->done()) method->runRound(nullptr);
     const auto snap = method->snapshot();
     const double peak = std::max(peakBefore, measureFmaPeakGflops(threads, 1.0));

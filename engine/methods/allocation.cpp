@@ -16,25 +16,41 @@ namespace penumbra {
 
 using namespace method;
 
-int AllocationConfig::effectiveInitialSpp() const {
+int AllocationConfig::effectiveInitialSpp(const RunShape& shape) const {
   if (initialSpp > 0) return initialSpp;
-  return openEnded ? 4 : std::min(4, spp);
+  return shape.openEnded ? 4 : std::min(4, shape.spp);
 }
 
-int AllocationConfig::effectiveBatch() const {
+int AllocationConfig::effectiveBatch(const RunShape& shape) const {
   if (batch > 0) return batch;
-  return openEnded ? 8 : spp;
+  return shape.openEnded ? 8 : shape.spp;
 }
 
-std::string AllocationConfig::validate() const {
-  if (!openEnded && spp < 1) return "spp must be at least 1";
+std::string AllocationConfig::validate(const RunShape& shape) const {
+  if (const std::string problem = shape.validate(); !problem.empty()) return problem;
   if (initialSpp < 0) return "the initial spp must not be negative";
-  if (!openEnded && initialSpp > spp) return "the initial spp must not exceed spp";
+  if (!shape.openEnded && initialSpp > shape.spp) return "the initial spp must not exceed spp";
   if (rounds < 1) return "rounds must be at least 1";
   if (batch < 0) return "the batch must not be negative";
-  if (openEnded && roundSpp < 1) return "round spp must be at least 1";
-  if (maxSpp < 0) return "the maximum spp must not be negative";
   return {};
+}
+
+const ParamTable<AllocationConfig>& allocationParams() {
+  static const ParamTable<AllocationConfig> table = [] {
+    ParamTable<AllocationConfig> t;
+    t.group("Baselines: fdiv, fuzzy, gem, cycles (ALGORITHM.md section 10)")
+        .integer("initial-spp", "initial spp N0",
+                 "Samples per pixel of the initial pass N0 (0 = min(4, spp))",
+                 [](auto& c) -> auto& { return c.initialSpp; }, 0, 1 << 20, {0, 64})
+        .integer("batch", "batch per chosen pixel (0: 8)",
+                 "Samples a chosen pixel gets per round (0 = spp; 8 in the viewer)",
+                 [](auto& c) -> auto& { return c.batch; }, 0, 1 << 20, {0, 64})
+        .integer("rounds", "rounds",
+                 "Adaptive rounds that spend the rest of the budget (BP and the baselines)",
+                 [](auto& c) -> auto& { return c.rounds; }, 1, 1000, {1, 32});
+    return t;
+  }();
+  return table;
 }
 
 namespace adaptive {
@@ -52,42 +68,28 @@ void LuminanceSums::add(double luminance) {
 
 // ---- The framework -----------------------------------------------------------------
 
-AllocationMethod::AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config,
-                                   std::string name)
+AllocationMethod::AllocationMethod(const PreparedScene& prepared, const RunShape& shape,
+                                   const AllocationConfig& config, std::string name)
     : prepared_(prepared),
+      shape_(shape),
       config_(config),
       name_(std::move(name)),
       width_(prepared.scene.settings.width),
       height_(prepared.scene.settings.height),
       pixelCount_(size_t(width_) * height_),
       scores_(pixelCount_, 0.0f),
+      schedule_(shape, pixelCount_, config.effectiveInitialSpp(shape), config.rounds),
       drawn_(pixelCount_, 0),
       kept_(pixelCount_, 0),
       selected_(pixelCount_, 0),
       rank_(pixelCount_, -1),
       addedLastRound_(pixelCount_, 0) {
-  if (const std::string error = config.validate(); !error.empty())
+  if (const std::string error = config.validate(shape); !error.empty())
     throw std::invalid_argument(error);
   start_ = Clock::now();
 }
 
-bool AllocationMethod::done() const {
-  if (config_.openEnded)
-    return config_.maxSpp > 0 && drawnTotal_ >= uint64_t(config_.maxSpp) * pixelCount_;
-  return drawnTotal_ >= uint64_t(config_.spp) * pixelCount_;
-}
-
-uint64_t AllocationMethod::roundBudget() const {
-  if (config_.openEnded) {
-    uint64_t budget = uint64_t(config_.roundSpp) * pixelCount_;
-    if (config_.maxSpp > 0)
-      budget = std::min(budget, uint64_t(config_.maxSpp) * pixelCount_ - drawnTotal_);
-    return budget;
-  }
-  const uint64_t remaining = uint64_t(config_.spp) * pixelCount_ - drawnTotal_;
-  const int roundsLeft = std::max(1, config_.rounds - (rounds_ - 1));
-  return (remaining + roundsLeft - 1) / roundsLeft;
-}
+bool AllocationMethod::done() const { return schedule_.finished(drawnTotal_); }
 
 void AllocationMethod::placeSamples(uint32_t pixel, int count, std::vector<uint32_t>& landing) {
   landing.assign(size_t(count), pixel);
@@ -102,7 +104,7 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
   std::fill(rank_.begin(), rank_.end(), -1);
   rankedLastRound_ = 0;
   if (rounds_ == 0) {
-    const uint32_t n0 = uint32_t(config_.effectiveInitialSpp());
+    const uint32_t n0 = uint32_t(schedule_.initialSpp());
     plan.reserve(pixelCount_ * n0);
     for (uint32_t p = 0; p < pixelCount_; ++p)
       for (uint32_t i = 0; i < n0; ++i) plan.push_back({p, drawn_[p]++});
@@ -119,8 +121,8 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
       return ka != kb ? ka > kb : a < b;
     });
     for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
-    uint64_t budget = roundBudget();
-    const int batch = config_.effectiveBatch();
+    uint64_t budget = schedule_.roundBudget(drawnTotal_, rounds_ - 1);
+    const int batch = config_.effectiveBatch(shape_);
     plan.reserve(budget);
     std::vector<uint32_t> landing;
     size_t chosen = 0;
@@ -154,11 +156,11 @@ void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic
   for (size_t i = 0; i < plan.size(); ++i)
     if (i == 0 || plan[i].pixel != plan[i - 1].pixel) groups.push_back(i);
   groups.push_back(plan.size());
-  const uint32_t setSize = config_.openEnded ? 64u : uint32_t(std::max(1, config_.spp));
+  const uint32_t setSize = shape_.openEnded ? 64u : uint32_t(std::max(1, shape_.spp));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size() - 1, kPixelGrain / 4),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                      TraceChunk chunk(counters_, config_.sampler, config_.seed, setSize);
+                      TraceChunk chunk(counters_, shape_.sampler, shape_.seed, setSize);
                       PixelSampler& sampler = chunk.sampler;
                       for (size_t g = range.begin(); g < range.end(); ++g) {
                         const uint32_t p = plan[groups[g]].pixel;
@@ -235,7 +237,7 @@ PixelInspection AllocationMethod::inspect(int x, int y) const {
   char line[200];
   if (rounds_ == 1) {
     std::snprintf(line, sizeof line, "initial pass: %d samples in every pixel",
-                  config_.effectiveInitialSpp());
+                  schedule_.initialSpp());
   } else if (rank_[p] >= 0 && size_t(rank_[p]) < rankedLastRound_) {
     std::snprintf(line, sizeof line, "%s %.3g ranked %d of %zu: among the %zu pixels sampled",
                   scoreName().c_str(), double(scores_[p]), rank_[p] + 1, pixelCount_,

@@ -15,7 +15,10 @@
 #pragma once
 
 #include "methods/common.h"
+#include "methods/params.h"
 #include "methods/progressive.h"
+#include "methods/run_shape.h"
+#include "methods/schedule.h"
 #include "trace/integrator.h"
 #include "trace/sampler.h"
 
@@ -27,22 +30,20 @@
 
 namespace penumbra {
 
+// The schedule every baseline shares; the run's shape is methods/run_shape.h.
 struct AllocationConfig {
-  uint64_t seed = 0;
-  int spp = 16;        // batch mode: samples per pixel on average
   int initialSpp = 0;  // N0; 0 = min(4, spp)
   int rounds = 8;      // adaptive rounds of the batch schedule
   int batch = 0;       // samples a chosen pixel gets per round; 0 = spp (8 open-ended)
-  bool openEnded = false;
-  int roundSpp = 1;  // open-ended: samples per pixel per round, on average
-  int maxSpp = 0;    // open-ended: stop at this average spp (0 = never)
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
 
-  int effectiveInitialSpp() const;
-  int effectiveBatch() const;
-  // Empty when valid, else a message naming the offending parameter.
-  std::string validate() const;
+  int effectiveInitialSpp(const RunShape& shape) const;
+  int effectiveBatch(const RunShape& shape) const;
+  // Empty when valid for a run of this shape, else a message naming the offending parameter.
+  std::string validate(const RunShape& shape) const;
 };
+
+// The parameters every baseline shares, for its own table (params.h).
+const ParamTable<AllocationConfig>& allocationParams();
 
 namespace adaptive {
 
@@ -65,7 +66,8 @@ struct PlannedSample {
 
 class AllocationMethod : public ProgressiveMethod {
  public:
-  AllocationMethod(const PreparedScene& prepared, const AllocationConfig& config, std::string name);
+  AllocationMethod(const PreparedScene& prepared, const RunShape& shape,
+                   const AllocationConfig& config, std::string name);
 
   void runRound(const std::atomic<bool>* cancel) override;
   bool done() const override;
@@ -95,6 +97,7 @@ class AllocationMethod : public ProgressiveMethod {
   static void forEachPixel(size_t count, const std::function<void(size_t)>& body);
 
   const PreparedScene& prepared_;
+  RunShape shape_;
   AllocationConfig config_;
   std::string name_;
   int width_, height_;
@@ -105,8 +108,8 @@ class AllocationMethod : public ProgressiveMethod {
 
  private:
   void trace(std::vector<PlannedSample>& plan, const std::atomic<bool>* cancel);
-  uint64_t roundBudget() const;
 
+  RoundSchedule schedule_;
   std::vector<uint32_t> drawn_;  // samples drawn per pixel (the next sequence index)
   std::vector<uint32_t> kept_;   // finite samples per pixel
   std::vector<uint8_t> selected_;

@@ -6,6 +6,15 @@
 
 namespace penumbra {
 
+const ParamTable<CyclesConfig>& cyclesParams() {
+  static const ParamTable<CyclesConfig> table = [] {
+    ParamTable<CyclesConfig> t;
+    t.include(allocationParams());
+    return t;
+  }();
+  return table;
+}
+
 namespace adaptive {
 
 double cyclesError(vec3 meanAll, vec3 meanHalf) {
@@ -23,8 +32,8 @@ namespace {
 
 class CyclesMethod final : public AllocationMethod {
  public:
-  CyclesMethod(const PreparedScene& prepared, const CyclesConfig& config)
-      : AllocationMethod(prepared, config, "cycles"),
+  CyclesMethod(const PreparedScene& prepared, const RunShape& shape, const CyclesConfig& config)
+      : AllocationMethod(prepared, shape, config, "cycles"),
         dilate_(config.dilate),
         sum_(pixelCount_, glm::dvec3(0.0)),
         sumHalf_(pixelCount_, glm::dvec3(0.0)),
@@ -88,8 +97,9 @@ class CyclesMethod final : public AllocationMethod {
 }  // namespace
 
 std::unique_ptr<ProgressiveMethod> makeCyclesMethod(const PreparedScene& prepared,
+                                                    const RunShape& shape,
                                                     const CyclesConfig& config) {
-  return std::make_unique<CyclesMethod>(prepared, config);
+  return std::make_unique<CyclesMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

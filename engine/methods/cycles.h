@@ -14,8 +14,12 @@ struct CyclesConfig : AllocationConfig {
   bool dilate = true;  // Cycles dilates unconverged pixels by 1 px in x, then y
 };
 
+// The parameters of CyclesConfig, for the command line, the panel, the stats and compare.
+const ParamTable<CyclesConfig>& cyclesParams();
+
 // Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
 std::unique_ptr<ProgressiveMethod> makeCyclesMethod(const PreparedScene& prepared,
+                                                    const RunShape& shape,
                                                     const CyclesConfig& config);
 
 namespace adaptive {

@@ -19,20 +19,93 @@ constexpr Entry kMethods[] = {
     {MethodKind::Cycles, "cycles", "Cycles half-buffer error (Dammertz et al. 2010)"},
 };
 
-// A method's configuration with the run's shape (seed, budget, open-ended or not) set.
-template <typename Config>
-Config withShape(Config c, const MethodSpec& s) {
-  c.seed = s.seed;
-  c.spp = s.spp;
-  c.openEnded = s.openEnded;
-  c.roundSpp = s.roundSpp;
-  c.maxSpp = s.maxSpp;
-  c.sampler = s.sampler;
-  return c;
+// Overloads by configuration type, so std::visit picks the method's own.
+std::string validateConfig(const RunShape& shape, const LdConfig&) { return shape.validate(); }
+std::string validateConfig(const RunShape& shape, const BpConfig& c) { return c.validate(shape); }
+std::string validateConfig(const RunShape& shape, const GemConfig& c) {
+  if (!(c.gamma > 0.0f && c.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
+  return c.validate(shape);
 }
-AllocationConfig allocationOf(const MethodSpec& s) { return withShape(s.allocation, s); }
-BpConfig bpOf(const MethodSpec& s) { return withShape(s.bp, s); }
+std::string validateConfig(const RunShape& shape, const AllocationConfig& c) {
+  return c.validate(shape);
+}
+
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const LdConfig& c) {
+  return makeLdMethod(p, s, c);
+}
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const BpConfig& c) {
+  return makeBpMethod(p, s, c);
+}
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const FDivConfig& c) {
+  return makeFDivMethod(p, s, c);
+}
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const FuzzyConfig& c) {
+  return makeFuzzyMethod(p, s, c);
+}
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const GemConfig& c) {
+  return makeGemMethod(p, s, c);
+}
+std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
+                                        const CyclesConfig& c) {
+  return makeCyclesMethod(p, s, c);
+}
+template <typename Config>
+std::vector<MethodParam> erase(const ParamTable<Config>& table) {
+  std::vector<MethodParam> out;
+  for (const Param<Config>& p : table.params()) {
+    MethodParam m;
+    copyDescription(p, m);
+    if (p.get) m.get = [g = p.get](const MethodConfig& c) { return g(std::get<Config>(c)); };
+    if (p.set) m.set = [s = p.set](MethodConfig& c, double v) { s(std::get<Config>(c), v); };
+    if (p.getList)
+      m.getList = [g = p.getList](const MethodConfig& c) { return g(std::get<Config>(c)); };
+    if (p.setList)
+      m.setList = [s = p.setList](MethodConfig& c, const std::vector<float>& v) {
+        s(std::get<Config>(c), v);
+      };
+    out.push_back(std::move(m));
+  }
+  return out;
+}
 }  // namespace
+
+const std::vector<MethodParam>& methodParams(MethodKind kind) {
+  static const std::vector<MethodParam> none;
+  static const std::vector<MethodParam> bp = erase(bpParams());
+  static const std::vector<MethodParam> fdiv = erase(fdivParams());
+  static const std::vector<MethodParam> fuzzy = erase(fuzzyParams());
+  static const std::vector<MethodParam> gem = erase(gemParams());
+  static const std::vector<MethodParam> cycles = erase(cyclesParams());
+  switch (kind) {
+    case MethodKind::Ld:
+      return none;
+    case MethodKind::Bp:
+      return bp;
+    case MethodKind::FDiv:
+      return fdiv;
+    case MethodKind::Fuzzy:
+      return fuzzy;
+    case MethodKind::Gem:
+      return gem;
+    case MethodKind::Cycles:
+      return cycles;
+  }
+  return none;
+}
+
+std::string describeChanges(const MethodSpec& spec, const MethodConfig& base) {
+  std::string text;
+  for (const MethodParam& p : methodParams(spec.kind())) {
+    const std::string value = formatParam(p, spec.config);
+    if (value != formatParam(p, base)) text += (text.empty() ? "" : " ") + p.name + "=" + value;
+  }
+  return text;
+}
 
 std::optional<MethodKind> parseMethodKind(std::string_view name) {
   for (const Entry& e : kMethods)
@@ -61,61 +134,37 @@ const std::vector<std::string>& methodNames() {
   return names;
 }
 
-std::string validate(const MethodSpec& s) {
-  switch (s.kind) {
+MethodConfig defaultConfig(MethodKind kind) {
+  switch (kind) {
     case MethodKind::Ld:
-      if (!s.openEnded && s.spp < 1) return "spp must be at least 1";
-      if (s.openEnded && s.roundSpp < 1) return "round spp must be at least 1";
-      return {};
+      return LdConfig{};
     case MethodKind::Bp:
-      return bpOf(s).validate();
+      return BpConfig{};
+    case MethodKind::FDiv:
+      return FDivConfig{};
+    case MethodKind::Fuzzy:
+      return FuzzyConfig{};
     case MethodKind::Gem:
-      if (!(s.gamma > 0.0f && s.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
-      return allocationOf(s).validate();
-    default:
-      return allocationOf(s).validate();
+      return GemConfig{};
+    case MethodKind::Cycles:
+      return CyclesConfig{};
   }
+  throw std::invalid_argument("unknown method");
+}
+
+std::vector<MethodConfig> defaultConfigs() {
+  std::vector<MethodConfig> configs;
+  for (const Entry& e : kMethods) configs.push_back(defaultConfig(e.kind));
+  return configs;
+}
+
+std::string validate(const MethodSpec& s) {
+  return std::visit([&](const auto& c) { return validateConfig(s.shape, c); }, s.config);
 }
 
 std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared, const MethodSpec& s) {
   if (const std::string error = validate(s); !error.empty()) throw std::invalid_argument(error);
-  switch (s.kind) {
-    case MethodKind::Ld: {
-      LdConfig c;
-      c.seed = s.seed;
-      c.spp = s.spp;
-      c.openEnded = s.openEnded;
-      c.roundSpp = s.openEnded ? s.roundSpp : s.spp;
-      c.maxSpp = s.maxSpp;
-      c.sampler = s.sampler;
-      return makeLdMethod(prepared, c);
-    }
-    case MethodKind::Bp:
-      return makeBpMethod(prepared, bpOf(s));
-    case MethodKind::Gem: {
-      GemConfig c;
-      static_cast<AllocationConfig&>(c) = allocationOf(s);
-      c.gamma = s.gamma;
-      return makeGemMethod(prepared, c);
-    }
-    case MethodKind::FDiv: {
-      FDivConfig c;
-      static_cast<AllocationConfig&>(c) = allocationOf(s);
-      c.divergence = s.divergence;
-      return makeFDivMethod(prepared, c);
-    }
-    case MethodKind::Fuzzy: {
-      FuzzyConfig c;
-      static_cast<AllocationConfig&>(c) = allocationOf(s);
-      return makeFuzzyMethod(prepared, c);
-    }
-    case MethodKind::Cycles: {
-      CyclesConfig c;
-      static_cast<AllocationConfig&>(c) = allocationOf(s);
-      return makeCyclesMethod(prepared, c);
-    }
-  }
-  throw std::invalid_argument("unknown method");
+  return std::visit([&](const auto& c) { return make(prepared, s.shape, c); }, s.config);
 }
 
 }  // namespace penumbra

@@ -1,5 +1,6 @@
-// Every rendering method by name, and one factory: what `render`, `view` and `compare`
-// use to run any of them with the same settings (ALGORITHM.md §11's fair comparison).
+// Every rendering method by name, and the one factory `render`, `view`, `compare` and
+// `reference` build methods with: a MethodSpec is the run's shape (the same for every
+// method, ALGORITHM.md §11's fair comparison) and the chosen method's own configuration.
 #pragma once
 
 #include "methods/bp/method.h"
@@ -8,16 +9,22 @@
 #include "methods/fuzzy.h"
 #include "methods/gem.h"
 #include "methods/ld.h"
+#include "methods/run_shape.h"
 
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace penumbra {
 
+// In the order of MethodConfig's alternatives.
 enum class MethodKind { Ld, Bp, FDiv, Fuzzy, Gem, Cycles };
+
+using MethodConfig =
+    std::variant<LdConfig, BpConfig, FDivConfig, FuzzyConfig, GemConfig, CyclesConfig>;
 
 std::optional<MethodKind> parseMethodKind(std::string_view name);
 const char* toString(MethodKind kind);
@@ -25,21 +32,31 @@ const char* toString(MethodKind kind);
 const std::vector<std::string>& methodNames();
 // One line for people: "Low discrepancy (box filter)", "Fuzzy uncertainty (re-implemented)".
 const char* describe(MethodKind kind);
+// The method's default configuration, and every method's, in MethodKind's order.
+MethodConfig defaultConfig(MethodKind kind);
+std::vector<MethodConfig> defaultConfigs();
 
 struct MethodSpec {
-  MethodKind kind = MethodKind::Ld;
-  BpConfig bp;                  // bp: every parameter but the run's shape below
-  AllocationConfig allocation;  // fdiv, fuzzy, gem, cycles: initialSpp, rounds, batch
-  Divergence divergence = Divergence::Hellinger;  // fdiv
-  float gamma = 0.2f;                             // gem
-  // The run's shape, for every method.
-  uint64_t seed = 0;
-  int spp = 16;
-  bool openEnded = false;
-  int roundSpp = 1;
-  int maxSpp = 0;
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
+  RunShape shape;
+  MethodConfig config;  // LdConfig by default
+
+  MethodKind kind() const { return MethodKind(config.index()); }
+  template <typename Config>
+  Config* get() {
+    return std::get_if<Config>(&config);
+  }
+  template <typename Config>
+  const Config* get() const {
+    return std::get_if<Config>(&config);
+  }
 };
+
+// The method's parameters over MethodConfig (each entry reads and writes the alternative of
+// `kind`), for code that handles every method alike: the command line, the panel, the stats.
+using MethodParam = Param<MethodConfig>;
+const std::vector<MethodParam>& methodParams(MethodKind kind);
+// "nit=20 sigma-c=0.1": the parameters of `spec` that differ from `base` (of the same method).
+std::string describeChanges(const MethodSpec& spec, const MethodConfig& base);
 
 // Empty when the spec is valid, else a message naming the parameter.
 std::string validate(const MethodSpec& spec);

@@ -6,6 +6,19 @@
 
 namespace penumbra {
 
+const ParamTable<FDivConfig>& fdivParams() {
+  static const ParamTable<FDivConfig> table = [] {
+    ParamTable<FDivConfig> t;
+    t.include(allocationParams())
+        .choice<Divergence>(
+            "divergence", "divergence",
+            "fdiv: hellinger (the BP paper's eq. 15), kl (Kullback-Leibler) or chi2",
+            [](auto& c) -> auto& { return c.divergence; }, {"hellinger", "kl", "chi2"});
+    return t;
+  }();
+  return table;
+}
+
 namespace adaptive {
 
 double divergence(const LuminanceSums& s, Divergence kind) {
@@ -40,8 +53,8 @@ namespace {
 
 class FDivMethod final : public AllocationMethod {
  public:
-  FDivMethod(const PreparedScene& prepared, const FDivConfig& config)
-      : AllocationMethod(prepared, config, "fdiv"),
+  FDivMethod(const PreparedScene& prepared, const RunShape& shape, const FDivConfig& config)
+      : AllocationMethod(prepared, shape, config, "fdiv"),
         divergence_(config.divergence),
         sum_(pixelCount_, glm::dvec3(0.0)),
         lum_(pixelCount_) {}
@@ -79,8 +92,8 @@ class FDivMethod final : public AllocationMethod {
 }  // namespace
 
 std::unique_ptr<ProgressiveMethod> makeFDivMethod(const PreparedScene& prepared,
-                                                  const FDivConfig& config) {
-  return std::make_unique<FDivMethod>(prepared, config);
+                                                  const RunShape& shape, const FDivConfig& config) {
+  return std::make_unique<FDivMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

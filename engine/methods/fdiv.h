@@ -16,9 +16,12 @@ struct FDivConfig : AllocationConfig {
   Divergence divergence = Divergence::Hellinger;
 };
 
+// The parameters of FDivConfig, for the command line, the panel, the stats and compare.
+const ParamTable<FDivConfig>& fdivParams();
+
 // Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
 std::unique_ptr<ProgressiveMethod> makeFDivMethod(const PreparedScene& prepared,
-                                                  const FDivConfig& config);
+                                                  const RunShape& shape, const FDivConfig& config);
 
 namespace adaptive {
 

@@ -9,6 +9,15 @@
 
 namespace penumbra {
 
+const ParamTable<FuzzyConfig>& fuzzyParams() {
+  static const ParamTable<FuzzyConfig> table = [] {
+    ParamTable<FuzzyConfig> t;
+    t.include(allocationParams());
+    return t;
+  }();
+  return table;
+}
+
 namespace adaptive {
 
 double fuzzyScore(std::span<const float> values, double minimum, double maximum, double mean,
@@ -32,8 +41,8 @@ namespace {
 
 class FuzzyMethod final : public AllocationMethod {
  public:
-  FuzzyMethod(const PreparedScene& prepared, const FuzzyConfig& config)
-      : AllocationMethod(prepared, config, "fuzzy"),
+  FuzzyMethod(const PreparedScene& prepared, const RunShape& shape, const FuzzyConfig& config)
+      : AllocationMethod(prepared, shape, config, "fuzzy"),
         reservoir_(config.reservoir),
         sum_(pixelCount_, glm::dvec3(0.0)),
         lum_(pixelCount_),
@@ -54,7 +63,7 @@ class FuzzyMethod final : public AllocationMethod {
     if (v.size() < size_t(reservoir_)) {
       v.push_back(float(y));
     } else {  // reservoir sampling, keyed on (seed, pixel, index): deterministic
-      const uint64_t j = hashValues(config_.seed, p, index) % lum_[p].n;
+      const uint64_t j = hashValues(shape_.seed, p, index) % lum_[p].n;
       if (j < v.size()) v[j] = float(y);
     }
   }
@@ -95,8 +104,9 @@ class FuzzyMethod final : public AllocationMethod {
 }  // namespace
 
 std::unique_ptr<ProgressiveMethod> makeFuzzyMethod(const PreparedScene& prepared,
+                                                   const RunShape& shape,
                                                    const FuzzyConfig& config) {
-  return std::make_unique<FuzzyMethod>(prepared, config);
+  return std::make_unique<FuzzyMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

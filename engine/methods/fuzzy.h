@@ -15,8 +15,12 @@ struct FuzzyConfig : AllocationConfig {
   int reservoir = 1024;  // luminances kept per pixel for the fuzzy entropy
 };
 
+// The parameters of FuzzyConfig, for the command line, the panel, the stats and compare.
+const ParamTable<FuzzyConfig>& fuzzyParams();
+
 // Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
 std::unique_ptr<ProgressiveMethod> makeFuzzyMethod(const PreparedScene& prepared,
+                                                   const RunShape& shape,
                                                    const FuzzyConfig& config);
 
 namespace adaptive {

@@ -12,6 +12,17 @@
 
 namespace penumbra {
 
+const ParamTable<GemConfig>& gemParams() {
+  static const ParamTable<GemConfig> table = [] {
+    ParamTable<GemConfig> t;
+    t.include(allocationParams())
+        .real("gamma", "gamma", "gem: confidence gamma of the bias test",
+              [](auto& c) -> auto& { return c.gamma; }, 1e-4, 0.52, {0.01, 0.5});
+    return t;
+  }();
+  return table;
+}
+
 namespace gem {
 
 const std::vector<float>& samplingScales() {
@@ -153,8 +164,8 @@ namespace {
 
 class GemMethod final : public AllocationMethod {
  public:
-  GemMethod(const PreparedScene& prepared, const GemConfig& config)
-      : AllocationMethod(prepared, config, "gem"),
+  GemMethod(const PreparedScene& prepared, const RunShape& shape, const GemConfig& config)
+      : AllocationMethod(prepared, shape, config, "gem"),
         gamma_(config.gamma),
         mean_(pixelCount_, glm::dvec3(0.0)),
         m2_(pixelCount_, glm::dvec3(0.0)),
@@ -177,7 +188,7 @@ class GemMethod final : public AllocationMethod {
   void computeScores(std::vector<float>& scores) override {
     const gem::ScaleSelection s =
         gem::selectScales(statistics(), gem::samplingScales(), gamma_, false);
-    const int spp = config_.effectiveBatch();
+    const int spp = config_.effectiveBatch(shape_);
     for (size_t p = 0; p < pixelCount_; ++p) {
       scores[p] = gem::pixelError(s, p, spp);
       samplingScale_[p] = s.scale[p];
@@ -189,7 +200,7 @@ class GemMethod final : public AllocationMethod {
     const int scale = samplingScale_[pixel];
     if (scale == 0) return;
     const float sigma = gem::samplingScales()[size_t(scale - 1)];
-    Pcg32 rng(hashValues(config_.seed, pixel, round()), 0x67656du);
+    Pcg32 rng(hashValues(shape_.seed, pixel, round()), 0x67656du);
     const int px = int(pixel % width_), py = int(pixel / width_);
     for (int k = 0; k < count; ++k)
       for (int attempt = 0; attempt < 4; ++attempt) {
@@ -251,8 +262,8 @@ class GemMethod final : public AllocationMethod {
 }  // namespace
 
 std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
-                                                 const GemConfig& config) {
-  return std::make_unique<GemMethod>(prepared, config);
+                                                 const RunShape& shape, const GemConfig& config) {
+  return std::make_unique<GemMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

@@ -21,9 +21,12 @@ struct GemConfig : AllocationConfig {
   float gamma = 0.2f;  // confidence of the bias test; c_gamma = -ln(1 - (1.9 gamma)^(1/sqrt2))
 };
 
+// The parameters of GemConfig, for the command line, the panel, the stats and compare.
+const ParamTable<GemConfig>& gemParams();
+
 // Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
 std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
-                                                 const GemConfig& config);
+                                                 const RunShape& shape, const GemConfig& config);
 
 namespace gem {
 

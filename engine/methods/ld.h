@@ -1,27 +1,64 @@
-// The plain low-discrepancy renderer as a progressive method, for the viewer and as the
-// baseline the adaptive methods are compared with.
+// The plain low-discrepancy renderer as a progressive method: every round adds the same
+// number of samples to every pixel (box filter, per-pixel mean in sample order). It is the
+// baseline the adaptive methods are compared with, the viewer's `--method ld`, and, run to
+// the end, `renderImage` (render.h) and the references.
 #pragma once
 
+#include "methods/common.h"
 #include "methods/progressive.h"
+#include "methods/run_shape.h"
+#include "methods/schedule.h"
 #include "trace/integrator.h"
-#include "trace/sampler.h"
+
+#include <glm/vec3.hpp>
 
 #include <memory>
+#include <vector>
 
 namespace penumbra {
 
-// The plain low-discrepancy renderer as a progressive method: the coarse pass, then
-// rounds adding samples to every pixel. Its final image equals renderImage's for the same
-// seed and spp (box filter, per-pixel mean in sample order).
-struct LdConfig {
-  uint64_t seed = 0;
-  int spp = 16;
-  bool openEnded = false;
-  int roundSpp = 1;  // samples per pixel per round after the first
-  int maxSpp = 0;
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
+// LD has no parameters of its own: the run's shape says everything.
+struct LdConfig {};
+
+// A batch run spreads its spp over this many rounds (fewer when spp is smaller), so that a
+// long render reports progress and can be cancelled between rounds; the image does not
+// depend on it, as each pixel sums its samples in sequence order.
+constexpr int kLdBatchRounds = 16;
+
+class LdMethod final : public ProgressiveMethod {
+ public:
+  // Throws std::invalid_argument on a bad shape; the scene must outlive the method.
+  LdMethod(const PreparedScene& prepared, const RunShape& shape);
+
+  void runRound(const std::atomic<bool>* cancel) override;
+  bool done() const override { return schedule_.finished(drawn_); }
+  int roundsDone() const override { return rounds_; }
+  size_t memoryBytes() const override;
+  PixelInspection inspect(int x, int y) const override;
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
+                                     const std::atomic<bool>* cancel) override;
+  // Samples every pixel has drawn so far.
+  uint32_t samplesPerPixel() const { return drawn_; }
+  // Per channel: the unbiased sample variance of each pixel over its sample count.
+  Image varianceOfMean() const;
+
+ private:
+  const PreparedScene& prepared_;
+  RunShape shape_;
+  RoundSchedule schedule_;  // per pixel: every pixel gets the same samples
+  int width_, height_;
+  size_t pixelCount_;
+  std::vector<glm::dvec3> mean_, m2_;  // Welford's running mean and squared deviations
+  std::vector<uint32_t> count_;
+  uint32_t drawn_ = 0;
+  uint32_t lastAdded_ = 0;
+  int rounds_ = 0;
+  method::Counters counters_;
+  PhaseTimes times_;
+  method::Clock::time_point start_;
 };
+
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
-                                                const LdConfig& config);
+                                                const RunShape& shape, const LdConfig& config = {});
 
 }  // namespace penumbra

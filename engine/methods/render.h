@@ -1,7 +1,6 @@
-// Whole-image rendering: every pixel draws `spp` samples from its own sampler stream,
-// in parallel over 16x16 tiles with oneTBB. Pixels are independent and each sums its
-// samples in a fixed order, so an image depends only on the seed, never on the number
-// of threads or on which thread ran which tile.
+// Whole-image rendering: the LD method (ld.h) run to the end, every pixel drawing `spp`
+// samples from its own sampler stream. Pixels are independent and each sums its samples in
+// a fixed order, so an image depends only on the seed, never on the number of threads.
 #pragma once
 
 #include "core/image.h"
@@ -19,7 +18,7 @@ struct RenderOptions {
   uint64_t seed = 0;
   int spp = 16;
   int threads = 0;  // 0 = all cores
-  // Called from worker threads with the fraction done; must be thread-safe and quick.
+  // Called between rounds with the fraction done; must be quick.
   std::function<void(double)> progress;
   const std::atomic<bool>* cancel = nullptr;
 };

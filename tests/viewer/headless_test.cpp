@@ -48,9 +48,10 @@ std::shared_ptr<const Image> reference() {
 ViewOptions options(Overlay overlay) {
   ViewOptions o;
   o.scene = tire();
-  o.method = "bp";
-  applyBpPreset(o.bp, BpPreset::Tuned);  // what `penumbra view` runs by default
-  o.seed = 7;
+  o.method = MethodKind::Bp;
+  // What `penumbra view` runs by default.
+  applyBpPreset(std::get<BpConfig>(o.configs[size_t(MethodKind::Bp)]), BpPreset::Tuned);
+  o.shape.seed = 7;
   o.overlay = overlay;
   o.reference = reference();
   return o;
@@ -166,7 +167,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
     ASSERT_NE(frame.snapshot, nullptr);
     const Image& shown = frame.snapshot->reconstructed;
     const OverlayImage overlay =
-        buildOverlay(*frame.snapshot, v.overlay, shown, reference().get(), o.bp.filter.alphas);
+        buildOverlay(*frame.snapshot, v.overlay, shown, reference().get(), o.alphas());
     const Image cpu = composeFrame(shown, display, &overlay, 0.6f);
     int worst = 0;
     for (int y = 0; y < kSize; ++y)

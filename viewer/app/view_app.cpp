@@ -32,39 +32,6 @@ int previewBlock(int width) { return std::clamp(width / 64, 2, 16); }
 // Room the panel takes on the left of the window (its width plus margins).
 constexpr int kPanelWidth = 356;
 
-// A baseline's open-ended run as the options describe it.
-MethodSpec baselineSpec(const ViewOptions& o) {
-  MethodSpec s = o.baseline;
-  s.kind = parseMethodKind(o.method).value_or(MethodKind::Ld);
-  s.seed = o.seed;
-  s.openEnded = true;
-  s.roundSpp = o.roundSpp;
-  s.maxSpp = o.targetSpp;
-  return s;
-}
-
-// The method a (re)start runs on `view`, built on the session's worker thread from a copy
-// of the options taken at the restart (the UI thread goes on changing its own).
-std::unique_ptr<ProgressiveMethod> makeViewMethod(const PreparedScene& view, const ViewOptions& o) {
-  if (o.method == "ld") {
-    LdConfig c;
-    c.seed = o.seed;
-    c.openEnded = true;
-    c.roundSpp = o.roundSpp;
-    c.maxSpp = o.targetSpp;
-    return makeLdMethod(view, c);
-  }
-  if (o.method == "bp") {
-    BpConfig c = o.bp;
-    c.seed = o.seed;
-    c.openEnded = true;
-    c.roundSpp = o.roundSpp;
-    c.maxSpp = o.targetSpp;
-    return makeBpMethod(view, c);
-  }
-  return makeMethod(view, baselineSpec(o));
-}
-
 }  // namespace
 
 void FrameStats::add(double seconds) {
@@ -128,21 +95,17 @@ void ViewerApp::restart() {
     message_ = e.what();
     return;
   }
-  BpConfig check = options_.bp;
-  check.openEnded = true;
-  check.roundSpp = options_.roundSpp;
-  configError_ = options_.method == "bp"   ? check.validate()
-                 : options_.method == "ld" ? ""
-                                           : validate(baselineSpec(options_));
+  const MethodSpec spec = options_.spec();
+  configError_ = validate(spec);
   if (!configError_.empty()) {
     message_ = "not restarted: " + configError_;
     return;
   }
   // The factory owns the view, which the method refers to, for as long as the method runs,
-  // and a copy of the options: it runs on the worker thread.
+  // and a copy of the spec: it runs on the worker thread.
   restartTime_ = Clock::now();
   generation_ =
-      session_->restart([view, o = options_] { return makeViewMethod(*view, o); }, options_.rounds);
+      session_->restart([view, spec] { return makeMethod(*view, spec); }, options_.rounds);
   if (inspectX_ >= 0) session_->inspect(inspectX_, inspectY_);
   ++restarts_;
   firstPreviewSeconds_ = -1;
@@ -154,7 +117,7 @@ void ViewerApp::restart() {
     preview->method = "preview";
     preview->width = view->scene.settings.width;
     preview->height = view->scene.settings.height;
-    preview->raw = renderPreview(*view, options_.seed, previewBlock(preview->width));
+    preview->raw = renderPreview(*view, options_.shape.seed, previewBlock(preview->width));
     preview->reconstructed = preview->raw;
     snapshot_ = std::move(preview);
     overlayStale_ = texturesStale_ = true;
@@ -215,7 +178,7 @@ void ViewerApp::refreshOverlay() {
   if (!snapshot_ || options_.overlay == Overlay::None) return;
   const Image& shown = shownImage();
   overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get(),
-                               options_.bp.filter.alphas);
+                               options_.alphas());
   if (overlayImage_.available())
     legendStrip_ =
         drawMapWithLegend({}, std::max(1, width_ - panelReserve()), 0, overlayImage_.legend);

@@ -23,13 +23,14 @@ class ImGuiRenderer;
 
 struct ViewOptions {
   std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
-  std::string method = "bp";                   // a name of methodNames()
-  BpConfig bp;                                 // seed, network and filter parameters
-  MethodSpec baseline;                         // the baselines' schedule and criteria
-  uint64_t seed = 0;
+  MethodKind method = MethodKind::Bp;
+  // Every method's configuration, in MethodKind's order: what the panel edits, kept when
+  // the panel switches to another method and back.
+  std::vector<MethodConfig> configs = defaultConfigs();
+  // Open-ended: the seed, the kept samples per pixel a round adds, and the target spp at
+  // which rendering stops (maxSpp; 0 = refine until stopped).
+  RunShape shape = RunShape::progressive(1);
   int threads = 0;          // render threads (0 = all cores)
-  int targetSpp = 0;        // stop at this average kept spp (0 = refine until stopped)
-  int roundSpp = 1;         // kept samples per pixel per round after the first
   bool preview = true;      // a block preview before each (re)start (the window; not headless)
   int rounds = -1;          // pause after this many rounds of each (re)start (-1: run on)
   bool background = false;  // render at a lower priority than the UI thread (the window)
@@ -40,6 +41,12 @@ struct ViewOptions {
   DisplaySettings display;
   bool showRaw = false;  // the raw estimate instead of the reconstruction
   std::string saveDirectory = ".";
+
+  MethodSpec spec() const { return {shape, configs[size_t(method)]}; }
+  // The filter scales BP's maps are labelled with.
+  const std::vector<float>& alphas() const {
+    return std::get<BpConfig>(configs[size_t(MethodKind::Bp)]).filter.alphas;
+  }
 };
 
 // Frame timing of the UI thread, for the panel and the window test's report.

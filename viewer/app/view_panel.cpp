@@ -18,109 +18,98 @@ ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
   return ImGui::ColorConvertFloat4ToU32(ImVec4(srgb.x, srgb.y, srgb.z, alpha));
 }
 
-// The method's parameters; returns true when one changed (the caller restarts).
+// One widget for a parameter of the method's table; true when it changed.
+bool paramWidget(const MethodParam& p, MethodConfig& config) {
+  const char* label = p.label.c_str();
+  const ImGuiSliderFlags scale = p.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
+  switch (p.kind) {
+    case ParamKind::Int: {
+      int v = int(p.get(config));
+      if (!ImGui::SliderInt(label, &v, int(p.uiMin), int(p.uiMax))) return false;
+      p.set(config, std::clamp(double(v), p.min, p.max));
+      return true;
+    }
+    case ParamKind::Float: {
+      float v = float(p.get(config));
+      if (!ImGui::SliderFloat(label, &v, float(p.uiMin), float(p.uiMax), "%.3f", scale))
+        return false;
+      p.set(config, std::clamp(double(v), p.min, p.max));
+      return true;
+    }
+    case ParamKind::Flag: {
+      bool v = p.get(config) != 0;
+      if (!ImGui::Checkbox(label, &v)) return false;
+      p.set(config, v ? 1 : 0);
+      return true;
+    }
+    case ParamKind::Choice: {
+      int v = int(p.get(config));
+      std::string items;
+      for (const std::string& c : p.choices) items += c + '\0';
+      if (!ImGui::Combo(label, &v, items.c_str())) return false;
+      p.set(config, v);
+      return true;
+    }
+    case ParamKind::FloatList: {
+      std::vector<float> values = p.getList(config);
+      bool changed = false;
+      for (size_t i = 0; i < values.size(); ++i) {
+        const std::string item = p.label + " " + std::to_string(i + 1);
+        changed |= ImGui::SliderFloat(item.c_str(), &values[i], float(p.uiMin), float(p.uiMax),
+                                      "%.2f", scale);
+        values[i] = float(std::clamp(double(values[i]), p.min, p.max));
+      }
+      if (changed) p.setList(config, values);
+      return changed;
+    }
+  }
+  return false;
+}
+
+// The method, the run's shape and every parameter of the method's table, grouped as the
+// table groups them; true when something changed.
 bool methodParameters(ViewOptions& o) {
   bool changed = false;
-  const std::vector<std::string>& names = methodNames();
-  int method = int(std::find(names.begin(), names.end(), o.method) - names.begin());
-  if (ImGui::BeginCombo("method", o.method.c_str())) {
-    for (int i = 0; i < int(names.size()); ++i) {
-      const std::string label =
-          names[size_t(i)] + " - " + describe(*parseMethodKind(names[size_t(i)]));
-      if (ImGui::Selectable(label.c_str(), i == method)) {
-        o.method = names[size_t(i)];
+  if (ImGui::BeginCombo("method", toString(o.method))) {
+    for (const std::string& name : methodNames()) {
+      const MethodKind kind = *parseMethodKind(name);
+      const std::string label = name + " - " + describe(kind);
+      if (ImGui::Selectable(label.c_str(), kind == o.method)) {
+        o.method = kind;
         changed = true;
       }
     }
     ImGui::EndCombo();
   }
-  changed |= ImGui::InputInt("target spp (0: open)", &o.targetSpp);
-  o.targetSpp = std::max(0, o.targetSpp);
-  changed |= ImGui::SliderInt("spp per round", &o.roundSpp, 1, 16);
-  int seed = int(o.seed);
+  changed |= ImGui::InputInt("target spp (0: open)", &o.shape.maxSpp);
+  o.shape.maxSpp = std::max(0, o.shape.maxSpp);
+  changed |= ImGui::SliderInt("spp per round", &o.shape.roundSpp, 1, 16);
+  int seed = int(o.shape.seed);
   if (ImGui::InputInt("seed", &seed)) {
-    o.seed = uint64_t(std::max(0, seed));
+    o.shape.seed = uint64_t(std::max(0, seed));
     changed = true;
   }
-  if (o.method != "bp" && o.method != "ld") {
-    AllocationConfig& a = o.baseline.allocation;
-    changed |= ImGui::SliderInt("batch per chosen pixel (0: 8)", &a.batch, 0, 64);
-    if (o.method == "fdiv") {
-      int d = int(o.baseline.divergence);
-      if (ImGui::Combo("divergence", &d, "Hellinger\0Kullback-Leibler\0chi-square\0")) {
-        o.baseline.divergence = Divergence(d);
+  MethodConfig& config = o.configs[size_t(o.method)];
+  if (BpConfig* bp = std::get_if<BpConfig>(&config)) {
+    for (BpPreset preset : {BpPreset::Paper, BpPreset::Tuned}) {
+      if (preset != BpPreset::Paper) ImGui::SameLine();
+      const std::string label = std::string(toString(preset)) + " preset";
+      if (ImGui::Button(label.c_str())) {
+        applyBpPreset(*bp, preset);
         changed = true;
       }
     }
-    if (o.method == "gem") changed |= ImGui::SliderFloat("gamma", &o.baseline.gamma, 0.01f, 0.5f);
   }
-  if (o.method != "bp") return changed;
-  BpConfig& bp = o.bp;
-  if (ImGui::Button("paper preset")) {
-    applyBpPreset(bp, BpPreset::Paper);
-    changed = true;
-  }
-  ImGui::SameLine();
-  if (ImGui::Button("tuned preset")) {
-    applyBpPreset(bp, BpPreset::Tuned);
-    changed = true;
-  }
-  if (ImGui::TreeNode("Table 1 parameters")) {
-    changed |= ImGui::SliderInt("Nit", &bp.network.epochs, 0, 200);
-    changed |= ImGui::SliderInt("hidden Nm", &bp.network.hidden, 1, kMaxNetHidden);
-    int inputs = bp.network.inputs == 5 ? 1 : 0;
-    if (ImGui::Combo("inputs", &inputs, "4 (radius, u, v, t)\0005 (dx, dy, u, v, t)\0")) {
-      bp.network.inputs = inputs ? 5 : 4;
-      changed = true;
+  const std::vector<MethodParam>& params = methodParams(o.method);
+  for (size_t i = 0; i < params.size();) {
+    const std::string& group = params[i].group;
+    size_t end = i;
+    while (end < params.size() && params[end].group == group) ++end;
+    if (ImGui::TreeNode(group.c_str())) {
+      for (size_t k = i; k < end; ++k) changed |= paramWidget(params[k], config);
+      ImGui::TreePop();
     }
-    changed |= ImGui::SliderFloat("psi", &bp.psi, 0.0f, 1.0f, "%.3f");
-    changed |= ImGui::SliderFloat("e", &bp.network.errorThreshold, 0.0f, 1.0f, "%.3f");
-    changed |= ImGui::SliderInt("candidates", &bp.candidates, 1, 16);
-    changed |= ImGui::SliderInt("slices S", &bp.slicesPerSide, 1, kMaxSlicesPerSide);
-    changed |= ImGui::SliderInt("radius r", &bp.filter.radius, 0, 8);
-    changed |= ImGui::SliderFloat("sigma_c", &bp.filter.sigmaC, 0.005f, 1.0f, "%.3f",
-                                  ImGuiSliderFlags_Logarithmic);
-    for (size_t i = 0; i < bp.filter.phi.size(); ++i) {
-      char label[32];
-      std::snprintf(label, sizeof label, "phi %zu", i + 1);
-      changed |= ImGui::SliderFloat(label, &bp.filter.phi[i], 0.0f, 2.0f, "%.2f");
-    }
-    for (size_t i = 0; i < bp.filter.alphas.size(); ++i) {
-      char label[32];
-      std::snprintf(label, sizeof label, "alpha %zu", i + 1);
-      changed |= ImGui::SliderFloat(label, &bp.filter.alphas[i], 0.01f, 20.0f, "%.2f",
-                                    ImGuiSliderFlags_Logarithmic);
-    }
-    changed |= ImGui::SliderInt("levels m", &bp.histogramLevels, 1, kMaxHistogramLevels);
-    int rate = bp.network.rate == LearningRateMode::Proportional ? 1 : 0;
-    if (ImGui::Combo("learning rate", &rate, "bold driver\0proportional to er\0")) {
-      bp.network.rate = rate ? LearningRateMode::Proportional : LearningRateMode::BoldDriver;
-      changed = true;
-    }
-    changed |= ImGui::SliderFloat("mu min", &bp.network.muMin, 0.001f, 0.5f, "%.3f");
-    changed |= ImGui::SliderFloat("mu max", &bp.network.muMax, 0.001f, 0.5f, "%.3f");
-    changed |= ImGui::SliderInt("reservoir", &bp.reservoir, 4, 256);
-    ImGui::TreePop();
-  }
-  if (ImGui::TreeNode("Ablations")) {
-    bool perSample = bp.targets == TargetMode::PerSample;
-    if (ImGui::Checkbox("per-sample targets", &perSample)) {
-      bp.targets = perSample ? TargetMode::PerSample : TargetMode::PixelMean;
-      changed = true;
-    }
-    changed |= ImGui::SliderInt("I' draws K", &bp.predictionDraws, 1, 32);
-    bool traced = bp.candidateMode == CandidateMode::Traced;
-    if (ImGui::Checkbox("trace candidates", &traced)) {
-      bp.candidateMode = traced ? CandidateMode::Traced : CandidateMode::Predicted;
-      changed = true;
-    }
-    changed |= ImGui::Checkbox("warping", &bp.warping);
-    changed |= ImGui::Checkbox("outlier removal (eq. 16)", &bp.outlierRemoval);
-    changed |= ImGui::Checkbox("second pass", &bp.filter.secondPass);
-    changed |= ImGui::Checkbox("stratified mean", &bp.stratifiedMean);
-    changed |= ImGui::Checkbox("top up", &bp.topUp);
-    changed |= ImGui::Checkbox("reconstruct", &bp.reconstruct);
-    ImGui::TreePop();
+    i = end;
   }
   return changed;
 }
@@ -326,7 +315,7 @@ void drawInspector(ViewerApp& app) {
     const auto snap = app.snapshot_;
     if (snap && !snap->alphaIndex.empty()) {
       const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
-      const auto& alphas = app.options_.bp.filter.alphas;
+      const auto& alphas = app.options_.alphas();
       ImGui::Text("filter alpha %g (index %d)", a < alphas.size() ? alphas[a] : -1.0f, int(a) + 1);
     }
     if (in->sliceB >= 0)

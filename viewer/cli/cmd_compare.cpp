@@ -9,6 +9,7 @@
 // of E3). Examples: ld,gem,bp:tuned,ld@64.
 #include "core/image_io.h"
 #include "eval/metrics.h"
+#include "eval/reference.h"
 #include "methods/factory.h"
 #include "methods/render.h"
 #include "trace/integrator.h"
@@ -54,6 +55,7 @@ struct Entry {
   MethodKind kind = MethodKind::Ld;
   std::string preset;  // bp: "" (the flags'), "paper" or "tuned"
   bool raw = false;
+  std::vector<std::string> settings;  // "name=value" of the method's parameter table
   int spp = 0;
 };
 
@@ -108,9 +110,15 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
         e.raw = true;
       } else if ((parts[i] == "paper" || parts[i] == "tuned") && e.kind == MethodKind::Bp) {
         e.preset = parts[i];
+      } else if (parts[i].find('=') != std::string::npos) {
+        // Checked here against the method's table, so a typo fails before any rendering.
+        MethodSpec check{RunShape{}, defaultConfig(e.kind)};
+        applyParamSetting(check, parts[i], "--methods: " + item);
+        e.settings.push_back(parts[i]);
       } else {
         throw CommandError("--methods: unknown modifier '" + parts[i] + "' in '" + item +
-                           "' (raw for any method; paper, tuned for bp)");
+                           "' (raw for any method; paper, tuned for bp; NAME=VALUE for any of "
+                           "the method's parameters)");
       }
     }
     if (!labels.insert(e.label).second)
@@ -194,18 +202,14 @@ void run(CompareFlags flags) {
     // so the next comparison can reuse it.
     std::filesystem::create_directories(flags.outDir);
     flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
-    RenderOptions options;
-    options.spp = flags.referenceSpp;
-    options.seed = 999;
-    options.threads = flags.threads;
     if (!flags.quiet)
       std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
                   flags.referenceSpp);
     std::fflush(stdout);
-    const RenderResult ref = renderImage(*prepared, options);
-    writeImage(flags.referencePath, ref.image);
-    reference = ref.image;
-    const double residual = convergenceOf(ref.image, ref.varianceOfMean).residualMse;
+    const Reference ref = renderReference(*prepared, flags.referenceSpp, 999, flags.threads);
+    writeImage(flags.referencePath, ref.render.image);
+    reference = ref.render.image;
+    const double residual = ref.convergence.residualMse;
     char note[160];
     std::snprintf(note, sizeof note, "rendered by compare at %d spp; its residual MSE %.3g",
                   flags.referenceSpp, residual);
@@ -258,15 +262,25 @@ void run(CompareFlags flags) {
     if (e.raw) result.description += ", before reconstruction";
     for (int s = 0; s < flags.seeds; ++s) {
       const uint64_t seed = flags.firstSeed + uint64_t(s);
-      MethodSpec spec = options.spec(e.spp, seed, SamplerKind::LowDiscrepancy);
-      if (flags.equalTime > 0) {
-        spec.openEnded = true;
-        spec.roundSpp = 1;
-        spec.maxSpp = 0;
+      // Equal time: open-ended rounds of 1 spp until the time is up.
+      const RunShape shape =
+          flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
+      MethodSpec spec{shape, options.config(e.kind, options.preset)};
+      for (const std::string& setting : e.settings)
+        applyParamSetting(spec, setting, "--methods: " + e.label);
+      BpConfig* bp = spec.get<BpConfig>();
+      if (bp && e.raw) bp->reconstruct = false;
+      if (const std::string problem = validate(spec); !problem.empty())
+        throw CommandError("--methods: " + e.label + ": " + problem);
+      if (s == 0) {
+        MethodConfig base = defaultConfig(e.kind);
+        if (BpConfig* b = std::get_if<BpConfig>(&base))
+          applyBpPreset(*b, *parseBpPreset(options.preset));
+        const std::string changes = describeChanges(spec, base);
+        if (!changes.empty()) result.description += ", " + changes;
       }
-      if (e.kind == MethodKind::Bp && e.raw) spec.bp.reconstruct = false;
       const auto snap = runOnce(*prepared, spec, flags.equalTime);
-      const bool useRaw = e.raw || (e.kind == MethodKind::Bp && !spec.bp.reconstruct);
+      const bool useRaw = e.raw || (bp && !bp->reconstruct);
       const Image& image = useRaw || snap->reconstructed.empty() ? snap->raw : snap->reconstructed;
       report::MethodRun run;
       run.seed = seed;
@@ -293,7 +307,7 @@ void run(CompareFlags flags) {
           result.filterScale.assign(snap->alphaIndex.begin(), snap->alphaIndex.end());
           result.filterScaleLabels = snap->filterScaleLabels;
           if (result.filterScaleLabels.empty())
-            for (float a : spec.bp.filter.alphas) {
+            for (float a : (bp ? bp->filter : FilterConfig{}).alphas) {
               char label[24];
               std::snprintf(label, sizeof label, "a=%g", double(a));
               result.filterScaleLabels.push_back(label);

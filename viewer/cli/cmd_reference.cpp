@@ -4,6 +4,7 @@
 // they want to measure.
 #include "core/image_io.h"
 #include "eval/metrics.h"
+#include "eval/reference.h"
 #include "methods/render.h"
 #include "trace/integrator.h"
 #include "viewer/cli/commands.h"
@@ -54,17 +55,14 @@ void run(ReferenceFlags flags) {
   Scene scene = loadSceneWithOptions(flags.scene);
   auto prepared = prepareScene(std::move(scene));
   const Scene& s = prepared->scene;
-  RenderOptions options;
-  options.spp = flags.spp;
-  options.seed = flags.seed;
-  options.threads = flags.threads;
   ProgressBar bar("reference " + std::to_string(s.settings.width) + "x" +
                   std::to_string(s.settings.height) + " " + std::to_string(flags.spp) + " spp");
-  if (!flags.quiet) options.progress = [&bar](double f) { bar.update(f); };
-  const RenderResult r = renderImage(*prepared, options);
+  std::function<void(double)> progress;
+  if (!flags.quiet) progress = [&bar](double f) { bar.update(f); };
+  const Reference ref = renderReference(*prepared, flags.spp, flags.seed, flags.threads, progress);
   bar.finish();
-
-  const Convergence converged = convergenceOf(r.image, r.varianceOfMean);
+  const RenderResult& r = ref.render;
+  const Convergence& converged = ref.convergence;
   writeImage(flags.output, r.image);
   writeImage(flags.variancePath, r.varianceOfMean);
   nlohmann::json j;

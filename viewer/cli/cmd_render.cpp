@@ -86,7 +86,7 @@ void prepareOutputs(const RenderFlags& flags) {
   checkImageExtension("--output", flags.output);
   if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
   if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
-  if (flags.method.isLd()) {
+  if (flags.method.kind() == MethodKind::Ld) {
     if (!flags.rawPath.empty()) throw CommandError("--raw-out needs an adaptive --method");
     if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs an adaptive --method");
   } else if (!flags.variancePath.empty()) {
@@ -138,8 +138,8 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
                            int threads) {
   const double pixels = double(snap.width) * snap.height;
   nlohmann::json j = commonStats(flags, scene, threads, snap.seconds, snap.rays, snap.keptSamples);
-  j["method"] = toString(spec.kind);
-  j["description"] = describe(spec.kind);
+  j["method"] = toString(spec.kind());
+  j["description"] = describe(spec.kind());
   j["kept_spp"] = double(snap.keptSamples) / pixels;
   j["traced_spp"] = double(snap.tracedSamples) / pixels;
   j["rounds"] = snap.round;
@@ -154,13 +154,36 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
           ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
           : 0.0;
   j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
-  if (spec.kind == MethodKind::Bp) {
-    const BpConfig& config = spec.bp;
+  // Every parameter of the method's table, under its name.
+  nlohmann::json config = nlohmann::json::object();
+  for (const MethodParam& p : methodParams(spec.kind())) {
+    const std::string key = p.jsonKey();
+    switch (p.kind) {
+      case ParamKind::Int:
+        config[key] = int(p.get(spec.config));
+        break;
+      case ParamKind::Float:  // as the flag would be written: 0.05, not 0.0500000007
+        config[key] = std::strtod(formatParam(p, spec.config).c_str(), nullptr);
+        break;
+      case ParamKind::Flag:
+        config[key] = p.get(spec.config) != 0;
+        break;
+      case ParamKind::Choice:
+        config[key] = formatParam(p, spec.config);
+        break;
+      case ParamKind::FloatList: {
+        std::vector<double> values;
+        for (float v : p.getList(spec.config))
+          values.push_back(std::strtod(formatBound(v).c_str(), nullptr));
+        config[key] = values;
+        break;
+      }
+    }
+  }
+  j["config"] = config;
+  if (const BpConfig* bp = spec.get<BpConfig>()) {
     j["preset"] = flags.method.preset;
-    j["config"] = {{"outlier_removal", config.outlierRemoval}, {"warping", config.warping},
-                   {"stratified_mean", config.stratifiedMean}, {"sigma_c", config.filter.sigmaC},
-                   {"inputs", config.network.inputs},          {"nit", config.network.epochs}};
-    j["coarse_spp"] = config.effectiveCoarseSpp();
+    j["coarse_spp"] = bp->effectiveCoarseSpp(spec.shape);
     j["training_gflops"] = snap.trainingKernelSeconds > 0
                                ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
                                : 0.0;
@@ -168,23 +191,15 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
     // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
     // filtering are, so both histograms are part of every run's record.
     j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
-    std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
+    std::vector<uint64_t> alphaCounts(bp->filter.alphas.size(), 0);
     for (uint8_t a : snap.alphaIndex)
       if (a < alphaCounts.size()) ++alphaCounts[a];
-    j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
-  } else {
-    const AllocationConfig& a = spec.allocation;
-    j["config"] = {{"initial_spp", a.initialSpp > 0 ? a.initialSpp : std::min(4, spec.spp)},
-                   {"batch", a.batch > 0 ? a.batch : spec.spp},
-                   {"rounds", a.rounds}};
-    if (spec.kind == MethodKind::FDiv) j["config"]["divergence"] = flags.method.divergence;
-    if (spec.kind == MethodKind::Gem) j["config"]["gamma"] = spec.gamma;
-    if (!snap.alphaIndex.empty()) {
-      std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
-      for (uint8_t a : snap.alphaIndex)
-        if (a < counts.size()) ++counts[a];
-      j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
-    }
+    j["alpha_histogram"] = {{"alphas", bp->filter.alphas}, {"counts", alphaCounts}};
+  } else if (!snap.alphaIndex.empty()) {
+    std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
+    for (uint8_t a : snap.alphaIndex)
+      if (a < counts.size()) ++counts[a];
+    j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
   }
   j["per_round"] = rounds;
   writeJson(path, j);
@@ -193,13 +208,17 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
 // Every method but plain LD: rounds until the budget is spent, then the final snapshot.
 void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
   const Scene& s = prepared.scene;
-  const MethodSpec spec = flags.method.spec(s.settings.spp, flags.seed, flags.sampler());
+  RunShape shape = RunShape::batch(s.settings.spp, flags.seed);
+  shape.sampler = flags.sampler();
+  const MethodSpec spec = flags.method.spec(shape);
   std::unique_ptr<tbb::global_control> limit;
   if (flags.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   size_t(flags.threads));
   auto method = makeMethod(prepared, spec);
-  const int maxRounds = spec.kind == MethodKind::Bp ? spec.bp.maxRounds : spec.allocation.rounds;
+  int maxRounds = 8;  // for the progress bar: the method's adaptive rounds
+  for (const MethodParam& p : methodParams(spec.kind()))
+    if (p.name == "rounds") maxRounds = int(p.get(spec.config));
   ProgressBar bar(flags.method.method + " " + std::to_string(s.settings.width) + "x" +
                   std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
                   " spp");
@@ -216,11 +235,11 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
           {"traced_spp", double(snap->tracedSamples) / pixels},
           {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
           {"seconds", snap->seconds}};
-      if (spec.kind == MethodKind::Bp) {
+      if (const BpConfig* bp = spec.get<BpConfig>()) {
         size_t difficult = 0;
         for (size_t p = 0; p < snap->bias.size(); ++p)
           difficult +=
-              snap->bias[p] > spec.bp.psi && snap->networkError[p] > spec.bp.network.errorThreshold;
+              snap->bias[p] > bp->psi && snap->networkError[p] > bp->network.errorThreshold;
         round["difficult_pixels"] = difficult;
       }
       rounds.push_back(round);
@@ -230,10 +249,13 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   const auto snap = method->snapshot();
   bar.finish();
 
-  const bool reconstructed = spec.kind != MethodKind::Bp || spec.bp.reconstruct;
-  writeImage(flags.output, reconstructed ? snap->reconstructed : snap->raw, flags.exposure);
+  // A method without a reconstruction publishes its raw estimate as the reconstruction.
+  writeImage(flags.output, snap->reconstructed, flags.exposure);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
-  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, spec.bp.filter.alphas);
+  if (!flags.aovDir.empty()) {
+    const BpConfig* bp = spec.get<BpConfig>();
+    writeSnapshotMaps(flags.aovDir, *snap, bp ? bp->filter.alphas : BpConfig{}.filter.alphas);
+  }
   if (!flags.statsPath.empty())
     writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
                           threads);
@@ -250,7 +272,7 @@ void run(const RenderFlags& flags) {
   auto prepared = prepareScene(std::move(scene));
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  if (flags.method.isLd())
+  if (flags.method.kind() == MethodKind::Ld)
     runLd(flags, *prepared, threads);
   else
     runProgressive(flags, *prepared, threads);

@@ -64,14 +64,16 @@ std::pair<int, int> parseSize(const std::string& text, const char* flag) {
 ViewOptions makeOptions(const ViewFlags& f) {
   ViewOptions o;
   Scene scene = loadSceneWithOptions(f.scene);
-  o.targetSpp = f.scene.spp ? *f.scene.spp : 0;
   o.scene = prepareScene(std::move(scene));
-  o.method = f.method.method;
-  o.bp = f.method.bpConfig(16, f.seed, SamplerKind::LowDiscrepancy);
-  o.baseline = f.method.spec(16, f.seed, SamplerKind::LowDiscrepancy);
-  o.seed = f.seed;
+  o.shape = RunShape::progressive(f.roundSpp, f.seed, f.scene.spp ? *f.scene.spp : 0);
+  o.method = f.method.kind();
+  // Every method gets the flags given, so that the panel's switch keeps them.
+  for (const std::string& name : methodNames()) {
+    const MethodKind kind = *parseMethodKind(name);
+    o.configs[size_t(kind)] = f.method.config(kind, f.method.preset);
+  }
+  if (const std::string problem = validate(o.spec()); !problem.empty()) throw CommandError(problem);
   o.threads = f.threads;
-  o.roundSpp = f.roundSpp;
   const auto overlay = overlayByName(f.overlay);
   if (!overlay) {
     std::string names = "none";
@@ -464,7 +466,7 @@ void registerViewCommand(CLI::App& app) {
       "Window: write frame times, frames per second, restarts and the final round as JSON on exit");
   c->add_flag("--continuous", flags->continuous,
               "Window: redraw every frame even when nothing changed (to measure frame rate)");
-  addMethodOptions(*c, flags->method, false);
+  addMethodOptions(*c, flags->method, {"rounds"});
   c->callback([flags] { run(*flags); });
 }
 

@@ -1,13 +1,14 @@
-// Command-line options that choose and configure the rendering method (--method, every
-// parameter of the BP method: the paper's Table 1 and the ablation switches of
-// ALGORITHM.md §12, and the baselines' schedule and criteria of §10), shared by `render` and the
-// commands that will run methods too.
+// Command-line options that choose and configure the rendering method: --method, --preset
+// and one flag for every parameter of every method's table (methods/params.h), shared by
+// `render`, `view` and `compare`. A flag sets the parameter of each method that has it.
 #pragma once
 
 #include "methods/factory.h"
 
 #include <CLI/CLI.hpp>
 
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -15,28 +16,31 @@ namespace penumbra {
 
 struct MethodOptions {
   std::string method = "ld";
-  std::string preset = "paper";
-  BpConfig bp;                                // defaults = the recommended values
-  const CLI::Option* sigmaCOption = nullptr;  // given explicitly, it overrides the preset
-  std::string targets = "per-sample";
-  std::string candidateMode = "traced";
-  std::string learningRate = "bold";
-  bool noWarping = false, noOutlierRemoval = false, noSecondPass = false, plainMean = false;
-  bool noTopUp = false, noReconstruct = false;
-  AllocationConfig allocation;  // the baselines' schedule (--initial-spp, --batch)
-  std::string divergence = "hellinger";
-  float gamma = 0.2f;
-  bool isBp() const { return method == "bp"; }
-  bool isLd() const { return method == "ld"; }
-  // The BP configuration for a render of `spp` kept samples with `seed`; throws
-  // CommandError naming the flag on an inconsistent combination.
-  BpConfig bpConfig(int spp, uint64_t seed, SamplerKind sampler) const;
-  // Any method's full specification for such a render; throws CommandError likewise.
-  MethodSpec spec(int spp, uint64_t seed, SamplerKind sampler) const;
+  std::string preset = "paper";  // bp: paper or tuned
+
+  // A parameter flag as given on the command line.
+  struct Given {
+    std::vector<std::string> values;  // a list's elements, or the one value
+    bool flag = false;                // a toggle's flag was given
+    const CLI::Option* option = nullptr;
+    bool given() const { return flag || (option && option->count() > 0); }
+  };
+  std::map<std::string, Given> given;  // by parameter name
+
+  MethodKind kind() const;  // throws CommandError on an unknown name
+  // The configuration of `kind`: its defaults, then (bp) the preset, then every flag given.
+  // Throws CommandError naming the flag on a bad value.
+  MethodConfig config(MethodKind kind, const std::string& presetName) const;
+  // The chosen method with this run shape; throws CommandError naming the flag when invalid.
+  MethodSpec spec(const RunShape& shape) const;
 };
 
-// batchSchedule: also --rounds (the batch schedule's adaptive rounds); the viewer runs
-// open-ended and uses --rounds for its own purpose.
-void addMethodOptions(CLI::App& command, MethodOptions& options, bool batchSchedule = true);
+// `skip`: parameter names the command uses for something else (view's --rounds).
+void addMethodOptions(CLI::App& command, MethodOptions& options,
+                      const std::set<std::string>& skip = {});
+
+// Sets "name=value" on the spec's configuration; throws CommandError when the method has no
+// such parameter or the value is bad. `where` names the place for the message.
+void applyParamSetting(MethodSpec& spec, const std::string& setting, const std::string& where);
 
 }  // namespace penumbra

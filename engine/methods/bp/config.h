@@ -4,24 +4,23 @@
 
 #include "methods/bp/network.h"
 #include "methods/bp/reconstruct.h"
-#include "trace/sampler.h"
+#include "methods/params.h"
+#include "methods/run_shape.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace penumbra {
 
 enum class TargetMode { PerSample, PixelMean };  // §4.3 [A8]
 enum class CandidateMode { Traced, Predicted };  // §7.2 [A16]: (B) trace all, (A) network
 
+// Everything but the run's shape (methods/run_shape.h).
 struct BpConfig {
-  uint64_t seed = 0;
-  int spp = 16;       // kept samples per pixel (batch mode)
   int coarseSpp = 0;  // N0; 0 = max(4, spp/4) rounded up to a power of two [A7]
   int maxRounds = 8;  // adaptive rounds of the batch schedule
-  bool openEnded = false;
-  int roundSpp = 1;  // open-ended: kept samples per pixel per round, on average
-  int maxSpp = 0;    // open-ended: stop at this average kept spp (0 = never)
   NetworkConfig network;
   TargetMode targets = TargetMode::PerSample;
   int predictionDraws = 8;  // K lens/time draws averaged for I' [A12]
@@ -40,12 +39,14 @@ struct BpConfig {
   bool reconstruct = true;
   FilterConfig filter;
   int reservoir = 64;  // samples kept per pixel for training and eq. 16
-  SamplerKind sampler = SamplerKind::LowDiscrepancy;
 
-  int effectiveCoarseSpp() const;
-  // Empty when valid, else a message naming the offending parameter.
-  std::string validate() const;
+  int effectiveCoarseSpp(const RunShape& shape) const;
+  // Empty when valid for a run of this shape, else a message naming the offending parameter.
+  std::string validate(const RunShape& shape) const;
 };
+
+// Every parameter above, for the command line, the panel, the stats and compare's labels.
+const ParamTable<BpConfig>& bpParams();
 
 // Named configurations. Paper: ALGORITHM.md's recommended resolutions (the defaults of
 // BpConfig). Tuned: our deviation, measured in docs/RESULTS.md to beat low-discrepancy
@@ -56,5 +57,6 @@ struct BpConfig {
 enum class BpPreset { Paper, Tuned };
 void applyBpPreset(BpConfig& config, BpPreset preset);
 const char* toString(BpPreset preset);
+std::optional<BpPreset> parseBpPreset(std::string_view name);
 
 }  // namespace penumbra

@@ -64,8 +64,8 @@ void estimateErrors(BpState& state, const std::vector<uint32_t>& pixels,
           const uint32_t p = pixels[i];
           PixelState& pixel = state.pixel(p);
           // K = 1 is the paper's single random draw, new every round.
-          const uint64_t key =
-              hashValues(config.seed, p, K == 1 ? kPredictionSalt + state.rounds : kPredictionSalt);
+          const uint64_t key = hashValues(
+              state.shape.seed, p, K == 1 ? kPredictionSalt + state.rounds : kPredictionSalt);
           predictionPoints(K, key, uvt.data());
           vec3 sum(0.0f);
           for (int j = 0; j < K; ++j) {

@@ -24,22 +24,23 @@ namespace {
 constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;
 }  // namespace
 
-BpState::BpState(const PreparedScene& scene, const BpConfig& bpConfig)
+BpState::BpState(const PreparedScene& scene, const RunShape& runShape, const BpConfig& bpConfig)
     : prepared(scene),
+      shape(runShape),
       config(bpConfig),
       width(scene.scene.settings.width),
       height(scene.scene.settings.height),
       pixelCount(size_t(width) * height),
       slicesPerPixel(bpConfig.slicesPerSide * bpConfig.slicesPerSide),
-      coarseSpp(bpConfig.effectiveCoarseSpp()) {
+      coarseSpp(bpConfig.effectiveCoarseSpp(runShape)),
+      schedule(runShape, pixelCount, coarseSpp, bpConfig.maxRounds) {
   store.slicesPerPixel = slicesPerPixel;
   store.histogramLevels = config.histogramLevels;
   store.reservoirLimit = size_t(config.reservoir);
-  store.seed = config.seed;
+  store.seed = shape.seed;
   store.resize(pixelCount);
   nets.resize(pixelCount);
   selected.assign(pixelCount, 0);
-  budget = config.openEnded ? 0 : uint64_t(config.spp) * pixelCount;
   start = method::Clock::now();
 }
 
@@ -55,8 +56,8 @@ struct TracedSample {
 
 class BpMethod final : public ProgressiveMethod {
  public:
-  BpMethod(const PreparedScene& prepared, const BpConfig& config)
-      : s_((validateOrThrow(config), prepared), config) {}
+  BpMethod(const PreparedScene& prepared, const RunShape& shape, const BpConfig& config)
+      : s_((validateOrThrow(shape, config), prepared), shape, config) {}
 
   void runRound(const std::atomic<bool>* cancel) override {
     if (done()) return;
@@ -68,13 +69,12 @@ class BpMethod final : public ProgressiveMethod {
   }
 
   bool done() const override {
-    const BpConfig& config = s_.config;
     if (s_.rounds == 0) return false;
-    if (config.openEnded)
-      return config.maxSpp > 0 && s_.spent >= uint64_t(config.maxSpp) * s_.pixelCount;
+    if (s_.shape.openEnded) return s_.schedule.finished(s_.spent);
     // Outlier rejections (predicted mode) can leave budget after maxRounds: up to as
     // many make-up rounds again, then stop.
-    return s_.spent >= s_.budget || s_.stalled || s_.adaptiveRounds >= 2 * config.maxRounds;
+    return s_.schedule.finished(s_.spent) || s_.stalled ||
+           s_.adaptiveRounds >= 2 * s_.config.maxRounds;
   }
 
   int roundsDone() const override { return s_.rounds; }
@@ -94,8 +94,8 @@ class BpMethod final : public ProgressiveMethod {
   PixelInspection inspect(int x, int y) const override;
 
  private:
-  static void validateOrThrow(const BpConfig& config) {
-    const std::string problem = config.validate();
+  static void validateOrThrow(const RunShape& shape, const BpConfig& config) {
+    const std::string problem = config.validate(shape);
     if (!problem.empty()) throw std::invalid_argument(problem);
   }
 
@@ -238,11 +238,11 @@ void BpMethod::coarsePass(const std::atomic<bool>* cancel) {
       tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
       [&](const tbb::blocked_range<size_t>& range) {
         if (s_.cancelled(cancel)) return;
-        TraceChunk chunk(s_.counters, config.sampler, config.seed, uint32_t(coarseSpp));
+        TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, uint32_t(coarseSpp));
         PixelSampler& sampler = chunk.sampler;
         for (size_t p = range.begin(); p < range.end(); ++p) {
           // Here rather than in the constructor: in parallel, and a restart can cancel it.
-          initNetwork(s_.nets[p], config.network, hashValues(config.seed, p, kNetSalt));
+          initNetwork(s_.nets[p], config.network, hashValues(s_.shape.seed, p, kNetSalt));
           const int px = int(p % width), py = int(p / width);
           traced[p].reserve(coarseSpp);
           for (int i = 0; i < coarseSpp; ++i) {
@@ -292,26 +292,11 @@ void BpMethod::coarsePass(const std::atomic<bool>* cancel) {
 
 // --- Adaptive rounds (§6-§8) -----------------------------------------------------------
 
-uint64_t roundBudget(const BpState& s) {
-  const BpConfig& config = s.config;
-  if (config.openEnded) {
-    uint64_t b = uint64_t(config.roundSpp) * s.pixelCount;
-    if (config.maxSpp > 0) {
-      const uint64_t cap = uint64_t(config.maxSpp) * s.pixelCount;
-      b = std::min(b, cap > s.spent ? cap - s.spent : 0);
-    }
-    return b;
-  }
-  const uint64_t remaining = s.budget > s.spent ? s.budget - s.spent : 0;
-  const int roundsLeft = std::max(1, config.maxRounds - s.adaptiveRounds);
-  return (remaining + roundsLeft - 1) / roundsLeft;
-}
-
 void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   const BpConfig& config = s_.config;
   const size_t pixelCount = s_.pixelCount;
   auto start = Clock::now();
-  const uint64_t budget = roundBudget(s_);
+  const uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
   std::vector<uint32_t> order = rankPixels(s_);
   const std::vector<uint32_t> slots = allocateSlots(order, pixelCount, budget, s_.slicesPerPixel);
   s_.lastOrder = std::move(order);
@@ -353,7 +338,7 @@ void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), 16),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (s_.cancelled(cancel)) return;
-                      TraceChunk chunk(s_.counters, config.sampler, config.seed,
+                      TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed,
                                        uint32_t(s_.coarseSpp));
                       uint64_t localSpent = 0, localTraced = 0;
                       for (size_t i = range.begin(); i < range.end(); ++i) {
@@ -383,8 +368,8 @@ void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
 }  // namespace bp
 
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
-                                                const BpConfig& config) {
-  return std::make_unique<bp::BpMethod>(prepared, config);
+                                                const RunShape& shape, const BpConfig& config) {
+  return std::make_unique<bp::BpMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

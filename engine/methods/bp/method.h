@@ -30,6 +30,6 @@ namespace penumbra {
 // Creates the BP method on a prepared scene (which must outlive it). Throws
 // std::invalid_argument with validate()'s message on a bad configuration.
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
-                                                const BpConfig& config);
+                                                const RunShape& shape, const BpConfig& config);
 
 }  // namespace penumbra

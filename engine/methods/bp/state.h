@@ -7,6 +7,8 @@
 #include "methods/bp/pixel_store.h"
 #include "methods/common.h"
 #include "methods/progressive.h"
+#include "methods/run_shape.h"
+#include "methods/schedule.h"
 #include "trace/integrator.h"
 
 #include <atomic>
@@ -16,9 +18,10 @@
 namespace penumbra::bp {
 
 struct BpState {
-  BpState(const PreparedScene& scene, const BpConfig& bpConfig);
+  BpState(const PreparedScene& scene, const RunShape& runShape, const BpConfig& bpConfig);
 
   const PreparedScene& prepared;
+  const RunShape shape;
   const BpConfig config;
   const int width, height;
   const size_t pixelCount;
@@ -33,10 +36,11 @@ struct BpState {
   std::atomic<int64_t> inspected{-1};
   std::vector<InspectedCandidate> inspectedCandidates;
 
+  const RoundSchedule schedule;
+
   int rounds = 0;
   int adaptiveRounds = 0;
   bool stalled = false;  // a round found no pixel to sample
-  uint64_t budget = 0;   // kept samples of the whole batch run
   uint64_t spent = 0, kept = 0, traced = 0;
   uint64_t trainingFlops = 0;
   double trainingSeconds = 0;

@@ -90,16 +90,17 @@ TEST(AdaptiveMeasures, CyclesError) {
 
 TEST(AllocationConfig, Validates) {
   AllocationConfig c;
-  EXPECT_EQ(c.validate(), "");
-  EXPECT_EQ(c.effectiveInitialSpp(), 4);
-  EXPECT_EQ(c.effectiveBatch(), 16);
-  c.spp = 2;
-  EXPECT_EQ(c.effectiveInitialSpp(), 2);
+  RunShape shape;
+  EXPECT_EQ(c.validate(shape), "");
+  EXPECT_EQ(c.effectiveInitialSpp(shape), 4);
+  EXPECT_EQ(c.effectiveBatch(shape), 16);
+  shape.spp = 2;
+  EXPECT_EQ(c.effectiveInitialSpp(shape), 2);
   c.rounds = 0;
-  EXPECT_NE(c.validate().find("rounds"), std::string::npos);
+  EXPECT_NE(c.validate(shape).find("rounds"), std::string::npos);
   c.rounds = 8;
   c.initialSpp = 3;
-  EXPECT_NE(c.validate().find("initial"), std::string::npos);
+  EXPECT_NE(c.validate(shape).find("initial"), std::string::npos);
 }
 
 std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
@@ -110,11 +111,19 @@ std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
 }
 
 MethodSpec specFor(MethodKind kind, int spp, uint64_t seed) {
-  MethodSpec s;
-  s.kind = kind;
-  s.spp = spp;
-  s.seed = seed;
-  return s;
+  return {RunShape::batch(spp, seed), defaultConfig(kind)};
+}
+
+// The schedule every baseline's configuration shares.
+AllocationConfig& allocationOf(MethodSpec& spec) {
+  return std::visit(
+      [](auto& c) -> AllocationConfig& {
+        if constexpr (std::is_base_of_v<AllocationConfig, std::decay_t<decltype(c)>>)
+          return c;
+        else
+          throw std::logic_error("not a baseline");
+      },
+      spec.config);
 }
 
 class Baseline : public ::testing::TestWithParam<MethodKind> {};
@@ -123,7 +132,7 @@ TEST_P(Baseline, SpendsExactlyTheBudget) {
   auto prepared = test::shippedScene("cornell", 16);
   for (int spp : {5, 16}) {
     MethodSpec spec = specFor(GetParam(), spp, 2);
-    spec.allocation.rounds = 3;
+    allocationOf(spec).rounds = 3;
     auto method = makeMethod(*prepared, spec);
     const auto snap = runToEnd(*method);
     const uint64_t pixels = 16 * 16;
@@ -175,9 +184,9 @@ TEST_P(Baseline, SameImageWhateverTheThreadCount) {
 TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   auto prepared = test::shippedScene("cornell", 16);
   MethodSpec spec = specFor(GetParam(), 0, 3);
-  spec.openEnded = true;
-  spec.roundSpp = 2;
-  spec.maxSpp = 10;
+  spec.shape.openEnded = true;
+  spec.shape.roundSpp = 2;
+  spec.shape.maxSpp = 10;
   auto method = makeMethod(*prepared, spec);
   EXPECT_FALSE(method->inspect(3, 3).valid);
   method->runRound(nullptr);  // initial pass: 4 spp
@@ -237,7 +246,7 @@ TEST(Methods, NamesRoundTrip) {
 TEST(Methods, RejectBadSpecs) {
   auto prepared = test::shippedScene("cornell", 8);
   MethodSpec s = specFor(MethodKind::Gem, 16, 0);
-  s.gamma = 0.9f;
+  s.get<GemConfig>()->gamma = 0.9f;
   EXPECT_NE(validate(s).find("gamma"), std::string::npos);
   EXPECT_THROW(makeMethod(*prepared, s), std::invalid_argument);
   s = specFor(MethodKind::FDiv, 0, 0);

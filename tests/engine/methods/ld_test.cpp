@@ -1,10 +1,13 @@
-// The low-discrepancy method in rounds: the same image as a one-shot render.
+// The low-discrepancy method in rounds: the image does not depend on the split into rounds, and
+// renderImage is the method run to the end.
 #include "methods/ld.h"
 
 #include "methods/render.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 namespace penumbra {
 namespace {
@@ -14,21 +17,40 @@ std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
   return method.snapshot();
 }
 
-TEST(LdMethod, FinalImageEqualsRenderImage) {
+TEST(LdMethod, TheImageDoesNotDependOnHowRoundsSplitTheSamples) {
   auto prepared = test::shippedScene("cornell", 16);
-  LdConfig config;
-  config.spp = 8;
-  config.seed = 3;
-  config.roundSpp = 3;  // rounds of 3, 3, 2 samples
-  auto method = makeLdMethod(*prepared, config);
-  const auto snap = runToEnd(*method);
-  EXPECT_EQ(snap->round, 3);
+  auto threeRounds = makeLdMethod(*prepared, RunShape::progressive(3, 3, 8));  // 3, 3, 2
+  const auto split = runToEnd(*threeRounds);
+  EXPECT_EQ(split->round, 3);
+  EXPECT_EQ(split->keptSamples, 8u * 16 * 16);
+  auto oneRound = makeLdMethod(*prepared, RunShape::progressive(8, 3, 8));
+  const auto whole = runToEnd(*oneRound);
+  EXPECT_EQ(whole->round, 1);
+  EXPECT_EQ(split->raw.pixels, whole->raw.pixels);
+  EXPECT_EQ(split->rays, whole->rays);
+}
+
+TEST(LdMethod, ABatchRunReportsProgressInRoundsAndRenderImageIsIt) {
+  auto prepared = test::shippedScene("cornell", 16);
+  LdMethod method(*prepared, RunShape::batch(40, 3));
+  int rounds = 0;
+  while (!method.done()) {
+    method.runRound(nullptr);
+    ++rounds;
+  }
+  EXPECT_EQ(rounds, kLdBatchRounds);  // 40 spp in 16 rounds of 3 or 2
+  EXPECT_EQ(method.samplesPerPixel(), 40u);
   RenderOptions options;
-  options.spp = 8;
+  options.spp = 40;
   options.seed = 3;
+  std::vector<double> progress;
+  options.progress = [&](double f) { progress.push_back(f); };
   const RenderResult direct = renderImage(*prepared, options);
-  EXPECT_EQ(snap->raw.pixels, direct.image.pixels);
-  EXPECT_EQ(snap->rays, direct.rays);
+  EXPECT_EQ(method.snapshot(false, nullptr)->raw.pixels, direct.image.pixels);
+  EXPECT_EQ(method.varianceOfMean().pixels, direct.varianceOfMean.pixels);
+  ASSERT_EQ(progress.size(), size_t(kLdBatchRounds));
+  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
+  EXPECT_DOUBLE_EQ(progress.back(), 1.0);
 }
 
 }  // namespace

@@ -19,12 +19,12 @@ std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("co
 RenderSession::MethodFactory bpFactory(std::shared_ptr<PreparedScene> scene, int spp,
                                        bool openEnded = false) {
   return [scene, spp, openEnded] {
+    RunShape shape = RunShape::batch(spp);
+    shape.openEnded = openEnded;
+    shape.roundSpp = 2;
     BpConfig config;
-    config.spp = spp;
-    config.openEnded = openEnded;
-    config.roundSpp = 2;
     config.network.epochs = 10;
-    return makeBpMethod(*scene, config);
+    return makeBpMethod(*scene, shape, config);
   };
 }
 
@@ -103,7 +103,7 @@ TEST(Session, AFailingMethodReportsItsError) {
   session.start([scene] {
     BpConfig config;
     config.slicesPerSide = 9;
-    return makeBpMethod(*scene, config);
+    return makeBpMethod(*scene, RunShape{}, config);
   });
   ASSERT_TRUE(session.wait(30));
   EXPECT_EQ(session.state(), RenderSession::State::Failed);

@@ -144,10 +144,11 @@ TEST(BpBias, HardEdgeIsDifficultAndAFlatPixelIsNot) {
 TEST(BpMethod, SpendsTheSampleBudgetExactly) {
   auto prepared = loadScaled("cornell", 24);
   for (int spp : {8, 16, 13}) {
+    RunShape shape;
     BpConfig config;
-    config.spp = spp;
-    config.seed = 5;
-    auto method = makeBpMethod(*prepared, config);
+    shape.spp = spp;
+    shape.seed = 5;
+    auto method = makeBpMethod(*prepared, shape, config);
     const auto snap = runToEnd(*method);
     const uint64_t pixels = 24 * 24;
     ASSERT_EQ(snap->nonFiniteSamples, 0u);
@@ -156,8 +157,9 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
               uint64_t(spp) * pixels);
     // Traced mode traces N_candi candidates per adaptive sample in a non-empty slice.
     EXPECT_GT(snap->tracedSamples, snap->keptSamples);
-    EXPECT_LE(snap->tracedSamples, uint64_t(config.effectiveCoarseSpp()) * pixels +
-                                       uint64_t(spp - config.effectiveCoarseSpp()) * pixels * 4);
+    EXPECT_LE(snap->tracedSamples,
+              uint64_t(config.effectiveCoarseSpp(shape)) * pixels +
+                  uint64_t(spp - config.effectiveCoarseSpp(shape)) * pixels * 4);
     EXPECT_LE(snap->round, config.maxRounds + 1);
     for (size_t p = 0; p < pixels; ++p) EXPECT_GE(snap->tracedCount[p], snap->keptCount[p]);
   }
@@ -165,10 +167,11 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
 
 TEST(BpMethod, PredictedCandidatesTraceOneRayPerSampleAndCountRejections) {
   auto prepared = loadScaled("cornell", 20);
+  RunShape shape;
   BpConfig config;
-  config.spp = 16;
+  shape.spp = 16;
   config.candidateMode = CandidateMode::Predicted;
-  auto method = makeBpMethod(*prepared, config);
+  auto method = makeBpMethod(*prepared, shape, config);
   const auto snap = runToEnd(*method);
   const uint64_t pixels = 20 * 20;
   // Every traced sample is either kept or rejected as an outlier.
@@ -180,18 +183,19 @@ TEST(BpMethod, PredictedCandidatesTraceOneRayPerSampleAndCountRejections) {
 
 TEST(BpMethod, SameSeedGivesTheSameImageWhateverTheThreadCount) {
   auto prepared = loadScaled("balls", 32);
+  RunShape shape;
   BpConfig config;
-  config.spp = 8;
-  config.seed = 11;
+  shape.spp = 8;
+  shape.seed = 11;
   std::shared_ptr<Snapshot> one, two;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    auto method = makeBpMethod(*prepared, config);
+    auto method = makeBpMethod(*prepared, shape, config);
     one = runToEnd(*method);
   }
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    auto method = makeBpMethod(*prepared, config);
+    auto method = makeBpMethod(*prepared, shape, config);
     two = runToEnd(*method);
   }
   EXPECT_EQ(one->raw.pixels, two->raw.pixels);
@@ -199,17 +203,18 @@ TEST(BpMethod, SameSeedGivesTheSameImageWhateverTheThreadCount) {
   EXPECT_EQ(one->bias, two->bias);
   EXPECT_EQ(one->keptCount, two->keptCount);
   EXPECT_EQ(one->rays, two->rays);
-  config.seed = 12;
-  auto other = makeBpMethod(*prepared, config);
+  shape.seed = 12;
+  auto other = makeBpMethod(*prepared, shape, config);
   EXPECT_NE(runToEnd(*other)->raw.pixels, one->raw.pixels);
 }
 
 TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
   auto prepared = loadScaled("tire", 48);
+  RunShape shape;
   BpConfig config;
-  config.spp = 16;
+  shape.spp = 16;
   config.maxRounds = 16;  // a round's budget (0.75 spp) covers only some pixels
-  auto method = makeBpMethod(*prepared, config);
+  auto method = makeBpMethod(*prepared, shape, config);
   method->runRound(nullptr);
   const auto coarse = method->snapshot();
   method->runRound(nullptr);
@@ -244,12 +249,13 @@ TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
 
 TEST(BpMethod, OpenEndedMemoryStaysFlat) {
   auto prepared = loadScaled("cornell", 16);
+  RunShape shape;
   BpConfig config;
-  config.openEnded = true;
-  config.roundSpp = 4;
+  shape.openEnded = true;
+  shape.roundSpp = 4;
   config.reservoir = 12;
   config.network.epochs = 5;
-  auto method = makeBpMethod(*prepared, config);
+  auto method = makeBpMethod(*prepared, shape, config);
   size_t atFive = 0;
   for (int round = 0; round < 16; ++round) {
     method->runRound(nullptr);
@@ -264,28 +270,30 @@ TEST(BpMethod, OpenEndedMemoryStaysFlat) {
 
 TEST(BpMethod, OpenEndedStopsAtMaxSpp) {
   auto prepared = loadScaled("cornell", 8);
+  RunShape shape;
   BpConfig config;
-  config.openEnded = true;
-  config.roundSpp = 3;
-  config.maxSpp = 10;
-  auto method = makeBpMethod(*prepared, config);
+  shape.openEnded = true;
+  shape.roundSpp = 3;
+  shape.maxSpp = 10;
+  auto method = makeBpMethod(*prepared, shape, config);
   const auto snap = runToEnd(*method);
   EXPECT_EQ(snap->keptSamples, 10u * 64);
 }
 
 TEST(BpMethod, RejectsABadConfigurationWithTheFlagName) {
   auto prepared = loadScaled("cornell", 8);
+  RunShape shape;
   BpConfig config;
   config.filter.phi = {0.3f};
   try {
-    makeBpMethod(*prepared, config);
+    makeBpMethod(*prepared, shape, config);
     FAIL() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("--phi"), std::string::npos);
   }
   config = BpConfig{};
   config.reservoir = 2;
-  EXPECT_THROW(makeBpMethod(*prepared, config), std::invalid_argument);
+  EXPECT_THROW(makeBpMethod(*prepared, shape, config), std::invalid_argument);
 }
 
 TEST(BpPreset, TunedChangesOnlyItsFourSettingsAndPaperRestoresThem) {
@@ -309,11 +317,12 @@ TEST(BpPreset, TunedChangesOnlyItsFourSettingsAndPaperRestoresThem) {
 
 TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
   auto prepared = loadScaled("cornell", 12);
+  RunShape shape;
   BpConfig config;
-  config.spp = 8;
-  config.seed = 5;
+  shape.spp = 8;
+  shape.seed = 5;
   applyBpPreset(config, BpPreset::Tuned);
-  auto method = makeBpMethod(*prepared, config);
+  auto method = makeBpMethod(*prepared, shape, config);
   const auto snap = runToEnd(*method);
   EXPECT_EQ(snap->keptSamples, 8u * 12 * 12);
   EXPECT_EQ(snap->tracedSamples, snap->keptSamples);  // no candidates traced and dropped
@@ -321,11 +330,12 @@ TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
 
 TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   auto prepared = loadScaled("cornell", 12);
+  RunShape shape;
   BpConfig config;
-  config.spp = 16;
-  config.seed = 2;
+  shape.spp = 16;
+  shape.seed = 2;
   config.network.epochs = 10;
-  auto method = makeBpMethod(*prepared, config);
+  auto method = makeBpMethod(*prepared, shape, config);
   EXPECT_FALSE(method->inspect(3, 4).valid);  // nothing before the coarse pass
   method->setInspectedPixel(3, 4);
   method->runRound(nullptr);

@@ -1,0 +1,36 @@
+// How every method spreads its budget over rounds (ALGORITHM.md §8, §10.2, §15): an
+// initial pass of N0 samples per pixel, then, in a batch run, each adaptive round spends an
+// equal share of what is left over the rounds left, so that exactly spp x #pixels samples
+// are spent; open-ended, each round spends roundSpp x #pixels until maxSpp is reached.
+// Budgets count samples over the whole image (or per pixel, with pixelCount 1).
+#pragma once
+
+#include "methods/run_shape.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace penumbra {
+
+class RoundSchedule {
+ public:
+  // `initialSpp`: N0 of the initial pass; `rounds`: the adaptive rounds of a batch run.
+  RoundSchedule(const RunShape& shape, size_t pixelCount, int initialSpp, int rounds);
+
+  uint64_t initialBudget() const { return uint64_t(initialSpp_) * pixelCount_; }
+  // Batch: spp x #pixels; open-ended: maxSpp x #pixels (0 = no end).
+  uint64_t totalBudget() const;
+  // What adaptive round `round` (from 0) may spend when `spent` samples are spent.
+  uint64_t roundBudget(uint64_t spent, int round) const;
+  // The whole budget is spent (never, open-ended without maxSpp).
+  bool finished(uint64_t spent) const;
+  int initialSpp() const { return initialSpp_; }
+  int rounds() const { return rounds_; }
+
+ private:
+  RunShape shape_;
+  size_t pixelCount_;
+  int initialSpp_, rounds_;
+};
+
+}  // namespace penumbra
