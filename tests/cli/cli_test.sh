@@ -36,11 +36,82 @@ expect_ok() {
     echo "FAIL: $what:"; cat "$work/out.txt"; failures=$((failures + 1)); fi
 }
 
+# check "description" command...: the command's exit status is the verdict.
+check() {
+  local what=$1
+  shift
+  if "$@"; then passes=$((passes + 1)); else echo "FAIL: $what"; failures=$((failures + 1)); fi
+}
+
 cornell="$src/scenes/cornell.json"
 expect_ok "render png" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.png" --stats "$work/s.json" -q
 expect_ok "render exr" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.exr" -q
 expect_ok "render pfm into a new folder" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/new/dir/a.pfm" -q
-expect_ok "diff" "$penumbra" diff "$work/a.exr" "$work/a.exr" --out "$work/d.png" --json
+# The renders wrote their files, each in its format.
+check "a.png is a PNG" test "$(head -c 4 "$work/a.png" 2>/dev/null | tail -c 3)" = PNG
+check "a.exr is an OpenEXR file" test "$(od -An -tx1 -N4 "$work/a.exr" 2>/dev/null | tr -d ' \n')" = 762f3101
+check "new/dir/a.pfm is a colour PFM" test "$(head -c 2 "$work/new/dir/a.pfm" 2>/dev/null)" = PF
+
+# `diff` on a known answer: 4x2 PFMs, the reference (0.25, 0.5, 0.75) everywhere, the test
+# off by +0.5 (red) in one pixel and by -0.25 (blue) in another, and NaN in a third, which
+# is counted and left out of every average (7 pixels, 21 channels remain).
+python3 - "$work/known_test.pfm" "$work/known_ref.pfm" <<'EOF'
+import struct, sys
+ref = [(0.25, 0.5, 0.75)] * 8
+test = list(ref)
+test[0] = (0.75, 0.5, 0.75)
+test[5] = (0.25, 0.5, 0.5)
+test[7] = (float("nan"), 0.5, 0.75)
+for path, pixels in zip(sys.argv[1:], (test, ref)):
+    with open(path, "wb") as f:
+        f.write(b"PF\n4 2\n-1.0\n" + b"".join(struct.pack("<3f", *p) for p in pixels))
+EOF
+# diff_json "description" output.json diff-arguments...: runs `diff --json`, stdout to the file.
+diff_json() {
+  local what=$1 out=$2
+  shift 2
+  if "$penumbra" diff "$@" --json >"$out" 2>"$work/diff_err.txt"; then passes=$((passes + 1)); else
+    echo "FAIL: $what:"; cat "$work/diff_err.txt"; failures=$((failures + 1)); fi
+}
+diff_json "diff, known answer" "$work/known.json" "$work/known_test.pfm" "$work/known_ref.pfm"
+check "diff, known answer: the metrics" python3 -c '
+import json, math, sys
+j = json.load(open(sys.argv[1]))
+def near(key, want):
+    assert j[key] is not None and math.isclose(j[key], want, rel_tol=1e-9), (key, j[key], want)
+n = 7 * 3
+near("mse", (0.5**2 + 0.25**2) / n)
+near("rel_mse", (0.5**2 / (0.25**2 + 1e-2) + 0.25**2 / (0.75**2 + 1e-2)) / n)
+near("max_abs_error", 0.5)
+near("psnr", 10 * math.log10(n / (0.5**2 + 0.25**2)))  # values in [0, 1]: clamping changes nothing
+assert j["tone_mapped_mse"] is not None and j["tone_mapped_mse"] > 0, j
+assert j["non_finite"] == 1 and j["width"] == 4 and j["height"] == 2, j
+' "$work/known.json"
+
+# Two renders with different seeds differ: every metric present, finite and positive, and
+# the error map written.
+expect_ok "render exr, another seed" "$penumbra" render "$cornell" --size 32x32 --spp 2 --seed 12345 -o "$work/b.exr" -q
+diff_json "diff of two seeds" "$work/seeds.json" "$work/b.exr" "$work/a.exr" --out "$work/d.png"
+check "diff of two seeds: metrics" python3 -c '
+import json, math, sys
+j = json.load(open(sys.argv[1]))
+for key in ("mse", "rel_mse", "tone_mapped_mse", "psnr", "max_abs_error"):
+    assert isinstance(j[key], (int, float)) and math.isfinite(j[key]), (key, j[key])
+    assert j[key] > 0, (key, j[key])
+assert j["max_abs_error"] ** 2 >= j["mse"], j  # the largest error bounds the mean square
+assert j["non_finite"] == 0 and j["width"] == 32 and j["height"] == 32, j
+assert j["diff_image"] == sys.argv[2] and j["diff_max"] > 0, j
+' "$work/seeds.json" "$work/d.png"
+check "diff --out d.png is a PNG" test "$(head -c 4 "$work/d.png" 2>/dev/null | tail -c 3)" = PNG
+# An image against itself: no error at all (PSNR infinite, so null).
+diff_json "diff of an image with itself" "$work/self.json" "$work/a.exr" "$work/a.exr"
+check "diff of an image with itself: zero error" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+for key in ("mse", "rel_mse", "tone_mapped_mse", "max_abs_error"):
+    assert j[key] == 0, (key, j[key])
+assert j["psnr"] is None and j["non_finite"] == 0, j
+' "$work/self.json"
 for key in time_seconds rays mrays_per_second spp nan_samples; do
   grep -q "\"$key\"" "$work/s.json" || { echo "FAIL: stats.json lacks $key"; failures=$((failures + 1)); }
 done
@@ -54,6 +125,7 @@ printf 'mtllib l.mtl\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -.5 2 -.5\nv .5 
 printf 'newmtl floor\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n' >"$work/l.mtl"
 expect_ok "render an OBJ with camera flags" "$penumbra" render "$work/l.obj" --eye 0,1.5,5 --look-at 0,0.5,0 --fov 45 --size 32x32 --spp 4 -o "$work/l.pfm" --stats "$work/l.json" -q
 grep -q '"nan_samples": 0' "$work/l.json" && passes=$((passes + 1)) || { echo "FAIL: OBJ render stats"; failures=$((failures + 1)); }
+check "the OBJ render is a colour PFM" test "$(head -c 2 "$work/l.pfm" 2>/dev/null)" = PF
 
 expect_fail "unknown flag" "--frobnicate" "$penumbra" render "$cornell" -o "$work/x.png" --frobnicate
 expect_fail "bad spp" "--spp" "$penumbra" render "$cornell" -o "$work/x.png" --spp zero
@@ -69,9 +141,9 @@ printf '{"materials": {"m": {"type": "diffuse"}}, "objects": [{"shape": "sphere"
 expect_fail "unknown material" "bad.json: objects[0].material: unknown material 'n'" "$penumbra" render "$work/bad.json" -o "$work/x.png"
 printf '{"materials": {\n  "m": {"type": "diffuse",}\n}}' >"$work/syntax.json"
 expect_fail "syntax error" "syntax.json:2:" "$penumbra" render "$work/syntax.json" -o "$work/x.png"
-expect_fail "diff size mismatch" "size" "$penumbra" diff "$work/a.exr" "$work/t1.pfm"
+expect_fail "diff size mismatch" "image sizes differ: $work/a.exr is 32x32, $work/t1.pfm is 24x24" "$penumbra" diff "$work/a.exr" "$work/t1.pfm"
 [ -e "$work/x.png" ] && { echo "FAIL: a failed render left an output file"; failures=$((failures + 1)); }
-ls "$work" | grep -q tmp && { echo "FAIL: temporary files left behind"; failures=$((failures + 1)); }
+[ -n "$(find "$work" -name '*.tmp-*')" ] && { echo "FAIL: temporary files left behind"; failures=$((failures + 1)); }
 
 # The BP method: output, raw estimate, debug maps and statistics; same bytes for 1 and 2 threads.
 expect_ok "render bp" "$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp.pfm" --raw-out "$work/bp_raw.exr" --aov-dir "$work/aov" --stats "$work/bp.json" --threads 1 -q
@@ -94,13 +166,6 @@ expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o 
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
 expect_fail "aov dir needs an adaptive method" "--aov-dir needs an adaptive --method" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
 expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
-
-# check "description" command...: the command's exit status is the verdict.
-check() {
-  local what=$1
-  shift
-  if "$@"; then passes=$((passes + 1)); else echo "FAIL: $what"; failures=$((failures + 1)); fi
-}
 
 # The baselines through `render`: statistics, debug maps and the raw estimate.
 for m in gem fuzzy cycles; do
@@ -209,6 +274,7 @@ expect_ok "view without a display" env -u DISPLAY -u WAYLAND_DISPLAY "${view_env
 grep -q "no display" "$work/out.txt" && [ -s "$work/auto.png" ] && passes=$((passes + 1)) || { echo "FAIL: no headless fallback without a display"; failures=$((failures + 1)); }
 "$penumbra" render "$cornell" --size 16x16 --spp 4 -o "$work/ref16.exr" -q
 expect_ok "view with reference" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --size 16x16 --headless --rounds 1 --reference "$work/ref16.exr" --overlay reference_error --with-ui --inspect 3,4 --screenshot "$work/ui.png"
+check "view with reference wrote its screenshot" test -s "$work/ui.png"
 expect_fail "view bad overlay" "--overlay: unknown overlay 'glitter'" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --overlay glitter --screenshot "$work/x.png"
 expect_fail "view bad backend" "--backend" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --backend vulkan --screenshot "$work/x.png"
 expect_fail "view screenshot format" "--screenshot: expected a .png" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$cornell" --headless --screenshot "$work/x.jpg"

@@ -1,9 +1,11 @@
 // The adaptive baselines' error measures on hand-made pixels, and the shared allocation
-// framework on a real scene: the exact budget, adaptivity, determinism across threads.
+// framework on a real scene (the exact budget, determinism across threads) and on a floor
+// half flat, half noisy (adaptivity: the samples go where the criterion says).
 #include "methods/allocation.h"
 
 #include "methods/factory.h"
 #include "present/overlays.h"
+#include "scene/scene_loader.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -145,16 +147,81 @@ TEST_P(Baseline, SpendsExactlyTheBudget) {
   }
 }
 
+// A diffuse floor under a uniform white sky, seen from straight above (image x is world
+// x). The left half of the image sees a uniform albedo: every sample of a pixel there has
+// exactly the same radiance, since the bounce ray always escapes to the sky. The right
+// half sees a checker of about 2.7 cells per pixel with the same mean albedo: its
+// pixels' samples are 0.1 or 0.9, so their means are noisy.
+std::unique_ptr<PreparedScene> flatAndNoisyHalves(int width, int height) {
+  Scene scene = parseSceneJson(R"({
+    "render": {"max_depth": 4},
+    "camera": {"eye": [0, 2, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 53.130102},
+    "background": 1,
+    "textures": {"fine": {"type": "checker", "colors": [0.1, 0.9], "scale": [96, 96]}},
+    "materials": {"flat": {"type": "diffuse", "albedo": 0.5},
+                  "checker": {"type": "diffuse", "albedo": "fine"}},
+    "objects": [
+      {"shape": "rectangle", "size": [3, 3], "material": "flat",
+       "transform": {"translate": [-1.5, 0, 0]}},
+      {"shape": "rectangle", "size": [3, 3], "material": "checker",
+       "transform": {"translate": [1.5, 0, 0]}}]})",
+                               "halves.json", ".");
+  scene.settings.width = width;
+  scene.settings.height = height;
+  return prepareScene(std::move(scene));
+}
+
 TEST_P(Baseline, ConcentratesSamples) {
-  // The cornell box has a light, edges and flat walls: an adaptive criterion gives some
-  // pixels far more than the average and some only the initial pass.
-  auto prepared = test::shippedScene("cornell", 24);
-  auto method = makeMethod(*prepared, specFor(GetParam(), 16, 1));
+  // The image (2:1; the fov 53.13 spans [-1, 1] vertically) is [-2, 2] x [-1, 1] of the
+  // floor: columns 0-23 flat, 24-47 noisy, 1/12 unit per pixel.
+  constexpr int kWidth = 48, kHeight = 24, kSpp = 16, kInitialSpp = 4;
+  auto prepared = flatAndNoisyHalves(kWidth, kHeight);
+  auto method = makeMethod(*prepared, specFor(GetParam(), kSpp, 1));
   const auto snap = runToEnd(*method);
-  const auto [lo, hi] = std::minmax_element(snap->tracedCount.begin(), snap->tracedCount.end());
-  EXPECT_LE(*lo, 8u);
-  EXPECT_GE(*hi, 32u);
-  ASSERT_EQ(snap->bias.size(), size_t(24 * 24));
+  ASSERT_EQ(snap->tracedCount.size(), size_t(kWidth * kHeight));
+
+  // Samples beyond the initial pass, in each half and in the flat pixels more than 8
+  // pixels from the noisy half (GEM places a chosen pixel's samples through a Gaussian of
+  // its filter scale, sigma up to 8, so some land in flat pixels near the noisy half).
+  double flatExtra = 0, noisyExtra = 0, farFlatExtra = 0;
+  int farFlatPixels = 0, unchosenWithMore = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const uint32_t traced = snap->tracedCount[size_t(y * kWidth + x)];
+      ASSERT_GE(traced, uint32_t(kInitialSpp)) << x << "," << y;
+      const double extra = traced - kInitialSpp;
+      if (x >= kWidth / 2) {
+        noisyExtra += extra;
+        continue;
+      }
+      flatExtra += extra;
+      if (x < kWidth / 2 - 8) {
+        farFlatExtra += extra;
+        ++farFlatPixels;
+      }
+      // A flat pixel's samples agree, so its score is 0 and it is never chosen: with
+      // FDiv and fuzzy it keeps its initial pass; Cycles dilates the chosen set by one
+      // pixel, so only the flat column beside the noisy half may get more.
+      if (GetParam() == MethodKind::FDiv || GetParam() == MethodKind::Fuzzy ||
+          (GetParam() == MethodKind::Cycles && x < kWidth / 2 - 1)) {
+        unchosenWithMore += traced != uint32_t(kInitialSpp);
+      }
+    }
+  EXPECT_EQ(unchosenWithMore, 0) << "flat pixels that got more than the initial pass";
+  const double adaptive = double(kSpp - kInitialSpp) * kWidth * kHeight;
+  EXPECT_EQ(flatExtra + noisyExtra, adaptive);
+  // A score that ignored the samples (a random one, say) would spread the adaptive
+  // samples evenly: its 864 batches of 16 would land half in each half (a fraction of
+  // 0.5 +- 0.02), and a far-flat pixel would get as many as a noisy one on average (a
+  // ratio of 1 +- 0.05), and flat pixels would be chosen. The criteria must put at least
+  // three quarters of the adaptive samples in the noisy half, and give a noisy pixel at
+  // least 3 times what a far-flat pixel gets.
+  EXPECT_GE(noisyExtra, 0.75 * adaptive) << "flat half got " << flatExtra;
+  const double noisyMean = kInitialSpp + noisyExtra / (kWidth * kHeight / 2);
+  const double farFlatMean = kInitialSpp + farFlatExtra / farFlatPixels;
+  EXPECT_GE(noisyMean, 3 * farFlatMean);
+
+  ASSERT_EQ(snap->bias.size(), size_t(kWidth * kHeight));
   EXPECT_GT(*std::max_element(snap->bias.begin(), snap->bias.end()), 0.0f);
   EXPECT_EQ(snap->biasRange, 0.0f);
   EXPECT_EQ(snap->method, toString(GetParam()));

@@ -6,7 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace penumbra {
 namespace {
@@ -52,28 +56,135 @@ TEST(Integrator, ClosedFurnaceConvergesToEmissionOverOneMinusAlbedo) {
   EXPECT_EQ(r.nonFiniteSamples, 0u);
 }
 
-// Mean of a unit sphere of `material` under a uniform white sky (fov 16 shows all of it).
-ImageMean sphereUnderWhiteSky(const std::string& material, int spp, int fovDegrees) {
+// A unit sphere of `material` at the origin, seen from distance 5 under a uniform white
+// sky with a vertical field of view of `fovDegrees`: the whole sphere needs
+// 2 asin(1/5) = 23.07 degrees, fov 4 shows only its middle (incidence below ~15 degrees).
+RenderResult sphereUnderWhiteSky(const std::string& material, int spp, double fovDegrees,
+                                 int size = 8, int maxDepth = 64) {
   Scene scene = sceneFrom(R"({
-    "render": {"width": 8, "height": 8, "max_depth": 64},
-    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 4},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},
     "background": [1, 1, 1],
     "materials": {"ball": )" +
                           material + R"(},
     "objects": [{"shape": "sphere", "radius": 1, "material": "ball"}]})");
-  return imageMean(renderScene(std::move(scene), spp));
+  scene.settings.width = scene.settings.height = size;
+  scene.settings.maxDepth = maxDepth;
+  scene.camera.vfovDegrees = float(fovDegrees);
+  return renderScene(std::move(scene), spp);
 }
 
 TEST(Integrator, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
-  const ImageMean m = sphereUnderWhiteSky(R"({"type": "diffuse", "albedo": 0.8})", 256, 4);
+  // fov 4: every pixel sees the sphere, so the image mean is the sphere's radiance.
+  const ImageMean m =
+      imageMean(sphereUnderWhiteSky(R"({"type": "diffuse", "albedo": 0.8})", 256, 4));
   EXPECT_NEAR(m.mean, 0.8, std::max(4 * m.standardError, 2e-3));
 }
 
 TEST(Integrator, GlassSphereUnderUniformSkyIsInvisible) {
-  // Smooth dielectric conserves energy, and the 1/eta^2 radiance scaling on entering is
-  // undone on leaving: in a uniform environment the sphere has the sky's radiance.
-  const ImageMean m = sphereUnderWhiteSky(R"({"type": "dielectric", "ior": 1.5})", 64, 16);
-  EXPECT_NEAR(m.mean, 1.0, std::max(4 * m.standardError, 5e-3));
+  // A smooth dielectric only redirects light: each reflection has weight 1, and the
+  // 1/eta^2 radiance scaling on entering is undone by the eta^2 on leaving. So in a
+  // uniform environment every path that escapes carries exactly the sky's radiance, and
+  // every pixel, near-normal, grazing and silhouette alike, has expected value 1. The fov
+  // (26 > 23.07 degrees) shows the whole sphere and a margin of sky, so the grazing
+  // incidences, where Fresnel reflectance goes to 1 and paths bounce many times inside,
+  // are in view.
+  //
+  // Depth truncation: a ray entering at incidence theta with reflectance F = F(theta)
+  // meets the inside of a sphere always at its refraction angle (below the critical
+  // angle), so it leaves at each inner hit with probability 1 - F; it is still inside
+  // after vertex D - 1, and is cut off by max depth D, with probability (1 - F) F^(D-1)
+  // <= (1/D)(1 - 1/D)^(D-1) < 1/(e (D-1)). With D = 1024 that darkens any pixel by at
+  // most 3.6e-4, which the tolerances below allow for explicitly (one-sided). Russian
+  // roulette keeps the paths short anyway: it is unbiased, so it only adds variance.
+  constexpr int kSize = 24, kSpp = 512, kMaxDepth = 1024;
+  constexpr double kFov = 26;
+  const double truncation = (1.0 / kMaxDepth) * std::pow(1.0 - 1.0 / kMaxDepth, kMaxDepth - 1);
+  const RenderResult r =
+      sphereUnderWhiteSky(R"({"type": "dielectric", "ior": 1.5})", kSpp, kFov, kSize, kMaxDepth);
+  EXPECT_EQ(r.nonFiniteSamples, 0u);
+
+  // Classify pixels by the distance d of their rays from the sphere's centre (the eye is
+  // 5 away, so a ray at angle a off the axis passes at d = 5 sin a; inside the sphere d is
+  // the sine of the incidence angle). The mesh is inscribed in the unit sphere, so a pixel
+  // whose whole footprint has d > 1 sees only sky.
+  const double tanHalf = std::tan(0.5 * kFov * M_PI / 180.0);
+  const auto distance = [&](double rasterX, double rasterY) {
+    const double sx = (2.0 * rasterX / kSize - 1.0) * tanHalf;
+    const double sy = (2.0 * rasterY / kSize - 1.0) * tanHalf;
+    return 5.0 * std::sin(std::atan(std::hypot(sx, sy)));
+  };
+  struct Band {
+    Band(const char* name, double lo, double hi) : name(name), lo(lo), hi(hi) {}
+    const char* name;
+    double lo, hi;  // d of the pixel centre; the silhouette band instead holds every
+                    // pixel whose footprint straddles d = 1
+    double sum = 0, varianceSum = 0;
+    std::vector<std::pair<int, int>> pixels;
+  };
+  std::vector<Band> bands = {{"incidence below 30 deg", 0.0, 0.5},
+                             {"30 to 53 deg", 0.5, 0.8},
+                             {"53 to 64 deg", 0.8, 0.9},
+                             {"above 64 deg, up to the silhouette", 0.9, 1.0},
+                             {"silhouette", 1.0, 1.0}};
+  Band& silhouette = bands.back();
+  int skyPixels = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      // Nearest and farthest points of the pixel's footprint from the image centre.
+      const double cx = std::clamp(kSize / 2.0, double(x), x + 1.0);
+      const double cy = std::clamp(kSize / 2.0, double(y), y + 1.0);
+      const double fx = std::abs(x - kSize / 2.0) > std::abs(x + 1 - kSize / 2.0) ? x : x + 1;
+      const double fy = std::abs(y - kSize / 2.0) > std::abs(y + 1 - kSize / 2.0) ? y : y + 1;
+      const double dMin = distance(cx, cy), dMax = distance(fx, fy);
+      const double value = luminance(r.image.at(x, y));
+      if (dMin > 1.0) {
+        ++skyPixels;
+        EXPECT_NEAR(value, 1.0, 1e-6) << "sky pixel " << x << "," << y;
+        continue;
+      }
+      Band* band = &silhouette;
+      if (dMax < 1.0) {
+        const double d = distance(x + 0.5, y + 0.5);
+        for (Band& b : bands)
+          if (d >= b.lo && d < b.hi) band = &b;
+      }
+      band->sum += value;
+      band->varianceSum += luminance(r.varianceOfMean.at(x, y));
+      band->pixels.push_back({x, y});
+    }
+  }
+  EXPECT_GT(skyPixels, 0) << "the fov must show the sky all around the sphere";
+
+  for (const Band& band : bands) {
+    // Every band is in view (fov 4 would show the first alone) with enough samples for
+    // the central limit theorem on the band mean: over 16000 paths, among them dozens to
+    // hundreds of the rare ones (Russian roulette kills, long internal chains) that carry
+    // the variance.
+    ASSERT_GE(band.pixels.size(), 16u) << band.name;
+    const double n = double(band.pixels.size());
+    const double mean = band.sum / n, standardError = std::sqrt(band.varianceSum) / n;
+    // 5 standard errors: a false alarm below 1e-6 for each of the five bands.
+    EXPECT_GT(mean, 1.0 - truncation - 5 * standardError) << band.name;
+    EXPECT_LT(mean, 1.0 + 5 * standardError) << band.name;
+
+    // Each pixel on its own, with the band's pooled variance (a pixel's own sample
+    // variance is unreliable where the rare events are few). Frequent small deviations
+    // (a roulette survival: x 1/0.95) make a Gaussian part, allowed 6 sigma. But some
+    // deviations are rare and large: a roulette kill (-1) or a chain that survived the
+    // roulette inside the sphere and left with weight ~2.5 (+1.5) move a pixel by up to
+    // ~1.5/spp each, and near the middle of the sphere a pixel sees only a few of them:
+    // their number is Poisson with a small mean m, whose tail beyond m + 6 sqrt(m) is
+    // far heavier than a Gaussian's. Allowing 6 more such events on top of the 6 sigma
+    // keeps P(Poisson(m) >= m + 6 sqrt(m) + 6) at most about 1e-9 whatever m, a false
+    // alarm below 1e-6 over the few hundred pixels.
+    const double sigma = std::sqrt(band.varianceSum / n);  // of one pixel's mean
+    const double tolerance = 6 * sigma + 6 * 1.5 / kSpp;
+    for (auto [x, y] : band.pixels) {
+      const double value = luminance(r.image.at(x, y));
+      EXPECT_GT(value, 1.0 - truncation - tolerance) << band.name << ": pixel " << x << "," << y;
+      EXPECT_LT(value, 1.0 + tolerance) << band.name << ": pixel " << x << "," << y;
+    }
+  }
 }
 
 TEST(Integrator, PlaneUnderDiskLightMatchesTheFormFactor) {

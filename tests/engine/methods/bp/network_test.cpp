@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/rng.h"
@@ -172,22 +173,45 @@ TEST_P(BpStepTest, OneEpochMovesWeightsByMuTimesNegativeGradient) {
 
 INSTANTIATE_TEST_SUITE_P(MeanGradient, BpStepTest, ::testing::Bool());
 
+// er of the best constant predictor on d: each output predicted by its mean target, so
+// 1/2 sum_k sum_o (d_o(k) - mean_o)^2. A network that has not learned the inputs'
+// influence on the targets does no better than this.
+double constantPredictorError(const PixelData& d) {
+  double mean[kNetOutputs] = {};
+  for (int k = 0; k < d.n; ++k)
+    for (int o = 0; o < kNetOutputs; ++o) mean[o] += d.targets[size_t(k * kNetOutputs + o)];
+  for (double& m : mean) m /= d.n;
+  double er = 0;
+  for (int k = 0; k < d.n; ++k)
+    for (int o = 0; o < kNetOutputs; ++o)
+      er += 0.5 * std::pow(d.targets[size_t(k * kNetOutputs + o)] - mean[o], 2);
+  return er;
+}
+
 TEST(BpNetworkTest, TrainingLearnsSmoothFunction) {
-  for (int inputs : {4, 5}) {
-    NetworkConfig c = makeConfig(inputs, 8);
-    c.epochs = 60;
+  for (auto [inputs, epochs] : {std::pair{4, 3000}, std::pair{5, 10000}}) {
+    // Enough epochs and hidden units to converge on this smooth, noise-free function
+    // (the 5-input form must build the radius from 2dx and 2dy first, so it needs more).
+    // One training of the renderer's default 60 epochs only starts the descent: er is
+    // then still about half the constant predictor's or more.
+    NetworkConfig c = makeConfig(inputs, 16);
+    c.epochs = epochs;
     c.errorThreshold = 0.0f;
     const PixelData d = smoothPixel(inputs, 32, 2024);
     PixelNet scalarNet;
     initNetwork(scalarNet, c, 31);
     PixelNet simdNet = scalarNet;
     const double erStart = networkError(scalarNet, c, d.inputs.data(), d.targets.data(), d.n);
+    const double erConstant = constantPredictorError(d);
     trainNetworkScalar(c, scalarNet, d.inputs.data(), d.targets.data(), d.n);
     const double erEnd = networkError(scalarNet, c, d.inputs.data(), d.targets.data(), d.n);
-    // 60 epochs of the paper's summed-gradient descent with mu <= 0.08 take er at least 3
-    // times lower on this smooth, noise-free function (measured: 3.7 -> 0.54 with 4 inputs,
-    // 2.6 -> 0.62 with 5).
-    EXPECT_LT(erEnd, erStart / 3.0) << "inputs " << inputs << ": " << erStart << " -> " << erEnd;
+    // Learned: the trained network explains at least 90% of the targets' variance (its
+    // er is at most a tenth of the best constant predictor's), and is far better than the
+    // random network it started from. Untrained (0 epochs), both fail; stopped after 60
+    // epochs, the first.
+    EXPECT_LT(erEnd, 0.1 * erConstant)
+        << "inputs " << inputs << ": constant predictor " << erConstant << ", trained " << erEnd;
+    EXPECT_LT(erEnd, 0.1 * erStart) << "inputs " << inputs << ": " << erStart << " -> " << erEnd;
     EXPECT_NEAR(scalarNet.er, erEnd, 1e-5 * erEnd);
     EXPECT_GE(scalarNet.mu, c.muMin);
     EXPECT_LE(scalarNet.mu, c.muMax);
