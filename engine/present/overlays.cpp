@@ -1,5 +1,7 @@
 #include "present/overlays.h"
 
+#include "core/stats.h"
+
 #include "eval/metrics.h"
 #include "present/snapshot_io.h"
 
@@ -40,18 +42,6 @@ const char* mapNameOf(Overlay overlay) {
     default:
       return "";
   }
-}
-
-// The value below which `fraction` of the finite values lie (0 when there are none).
-float quantile(const std::vector<float>& values, double fraction) {
-  std::vector<float> finite;
-  finite.reserve(values.size());
-  for (float v : values)
-    if (std::isfinite(v)) finite.push_back(v);
-  if (finite.empty()) return 0.0f;
-  const size_t k = std::min(finite.size() - 1, size_t(fraction * double(finite.size())));
-  std::nth_element(finite.begin(), finite.begin() + ptrdiff_t(k), finite.end());
-  return finite[k];
 }
 
 float displayChannel(float linear, const DisplaySettings& s, float scale) {
@@ -114,7 +104,7 @@ OverlayImage buildOverlay(const Snapshot& snapshot, Overlay overlay, const Image
     out.values.resize(error.pixels.size());
     for (size_t i = 0; i < error.pixels.size(); ++i) out.values[i] = error.pixels[i].x;
     // The 99th percentile keeps a few fireflies from turning the rest of the map dark.
-    const float top = std::max(1e-6f, quantile(out.values, 0.99));
+    const float top = std::max(1e-6f, lowerQuantile(out.values, 0.99).value_or(0.0f));
     out.legend = {"relative squared error", MapStyle::Continuous, 0.0f, top, {}};
   } else {
     for (SnapshotMap& m : snapshotMaps(snapshot, alphas)) {

@@ -1,5 +1,7 @@
 #include "present/snapshot_io.h"
 
+#include "core/stats.h"
+
 #include "core/image_io.h"
 #include "present/debug_maps.h"
 
@@ -33,14 +35,9 @@ float maxOf(const std::vector<float>& values) {
 }  // namespace
 
 float percentileOf(const std::vector<float>& values, float q) {
-  std::vector<float> finite;
-  finite.reserve(values.size());
-  for (float v : values)
-    if (std::isfinite(v)) finite.push_back(v);
-  if (finite.empty()) return 1.0f;
-  const size_t k = std::min(finite.size() - 1, size_t(q * float(finite.size() - 1) + 0.5f));
-  std::nth_element(finite.begin(), finite.begin() + k, finite.end());
-  return finite[k] > 0 ? finite[k] : std::max(1e-12f, maxOf(finite));
+  const std::optional<float> v = nearestRankQuantile(values, q);
+  if (!v) return 1.0f;
+  return *v > 0 ? *v : std::max(1e-12f, maxOf(values));
 }
 
 std::vector<uint64_t> histogram(const std::vector<float>& values, int bins, float maxValue) {

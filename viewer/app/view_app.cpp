@@ -1,5 +1,7 @@
 #include "viewer/app/view_app.h"
 
+#include "core/stats.h"
+
 #include "core/image_io.h"
 #include "eval/metrics.h"
 #include "scene/camera_control.h"
@@ -43,13 +45,7 @@ void FrameStats::add(double seconds) {
   if (recent.size() > 600) recent.erase(recent.begin(), recent.begin() + 300);
 }
 
-double FrameStats::percentile(double q) const {
-  if (recent.empty()) return 0.0;
-  std::vector<float> sorted = recent;
-  const size_t k = std::min(sorted.size() - 1, size_t(q * double(sorted.size())));
-  std::nth_element(sorted.begin(), sorted.begin() + ptrdiff_t(k), sorted.end());
-  return sorted[k];
-}
+double FrameStats::percentile(double q) const { return lowerQuantile(recent, q).value_or(0.0f); }
 
 ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
   if (!options_.scene) throw std::invalid_argument("ViewerApp: no scene");

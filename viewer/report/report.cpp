@@ -4,6 +4,8 @@
 // writeFileAtomically.
 #include "viewer/report/report.h"
 
+#include "core/stats.h"
+
 #include "core/image_io.h"
 #include "present/debug_maps.h"
 #include "viewer/report/report_detail.h"
@@ -311,12 +313,9 @@ std::vector<float> channelX(const Image& image) {
 }
 
 // The q-quantile (0..1) of the finite values, NaN if there are none.
-double quantile(std::vector<float> values, double q) {
-  std::erase_if(values, [](float v) { return !std::isfinite(v); });
-  if (values.empty()) return kNaN;
-  const size_t k = std::min(values.size() - 1, size_t(q * double(values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
-  return values[k];
+double quantile(const std::vector<float>& values, double q) {
+  const std::optional<float> v = nearestRankQuantile(values, float(q));
+  return v ? double(*v) : kNaN;
 }
 
 void outlineRect(Image& image, const Crop& c, vec3 color, int thickness) {
