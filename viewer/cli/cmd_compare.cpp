@@ -53,7 +53,7 @@ struct Entry {
   std::string label;
   std::string name;
   MethodKind kind = MethodKind::Ld;
-  std::string preset;  // bp: "" (the flags'), "paper" or "tuned"
+  std::optional<BpPreset> preset;  // bp: none (the flags'), paper or tuned
   bool raw = false;
   std::vector<std::string> settings;  // "name=value" of the method's parameter table
   int spp = 0;
@@ -108,8 +108,8 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
     for (size_t i = 1; i < parts.size(); ++i) {
       if (parts[i] == "raw") {
         e.raw = true;
-      } else if ((parts[i] == "paper" || parts[i] == "tuned") && e.kind == MethodKind::Bp) {
-        e.preset = parts[i];
+      } else if (parseBpPreset(parts[i]) && e.kind == MethodKind::Bp) {
+        e.preset = parseBpPreset(parts[i]);
       } else if (parts[i].find('=') != std::string::npos) {
         // Checked here against the method's table, so a typo fails before any rendering.
         MethodSpec check{RunShape{}, defaultConfig(e.kind)};
@@ -255,10 +255,10 @@ void run(CompareFlags flags) {
     result.spp = e.spp;
     result.description = describe(e.kind);
     MethodOptions options = flags.method;
-    options.method = e.name;
-    if (!e.preset.empty()) options.preset = e.preset;
+    options.method = e.kind;
+    if (e.preset) options.preset = *e.preset;
     if (e.kind == MethodKind::Bp)
-      result.description += std::string(", ") + options.preset + " preset";
+      result.description += std::string(", ") + toString(options.preset) + " preset";
     if (e.raw) result.description += ", before reconstruction";
     for (int s = 0; s < flags.seeds; ++s) {
       const uint64_t seed = flags.firstSeed + uint64_t(s);
@@ -274,8 +274,7 @@ void run(CompareFlags flags) {
         throw CommandError("--methods: " + e.label + ": " + problem);
       if (s == 0) {
         MethodConfig base = defaultConfig(e.kind);
-        if (BpConfig* b = std::get_if<BpConfig>(&base))
-          applyBpPreset(*b, *parseBpPreset(options.preset));
+        if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
         const std::string changes = describeChanges(spec, base);
         if (!changes.empty()) result.description += ", " + changes;
       }

@@ -42,7 +42,7 @@ nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, int thr
                            double seconds, uint64_t rays, uint64_t samples) {
   nlohmann::json j;
   j["scene"] = flags.scene.scenePath;
-  j["method"] = flags.method.method;
+  j["method"] = toString(flags.method.method);
   j["width"] = scene.settings.width;
   j["height"] = scene.settings.height;
   j["spp"] = scene.settings.spp;
@@ -182,7 +182,7 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
   }
   j["config"] = config;
   if (const BpConfig* bp = spec.get<BpConfig>()) {
-    j["preset"] = flags.method.preset;
+    j["preset"] = toString(flags.method.preset);
     j["coarse_spp"] = bp->effectiveCoarseSpp(spec.shape);
     j["training_gflops"] = snap.trainingKernelSeconds > 0
                                ? double(snap.trainingFlops) / snap.trainingKernelSeconds * 1e-9
@@ -219,9 +219,9 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   int maxRounds = 8;  // for the progress bar: the method's adaptive rounds
   for (const MethodParam& p : methodParams(spec.kind()))
     if (p.name == "rounds") maxRounds = int(p.get(spec.config));
-  ProgressBar bar(flags.method.method + " " + std::to_string(s.settings.width) + "x" +
-                  std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
-                  " spp");
+  ProgressBar bar(std::string(toString(flags.method.method)) + " " +
+                  std::to_string(s.settings.width) + "x" + std::to_string(s.settings.height) + " " +
+                  std::to_string(s.settings.spp) + " spp");
   std::vector<nlohmann::json> rounds;
   const double pixels = double(s.settings.width) * s.settings.height;
   const bool wantRounds = !flags.statsPath.empty();

@@ -406,8 +406,8 @@ void registerViewCommand(CLI::App& app) {
   auto flags = std::make_shared<ViewFlags>();
   // An artist opening a scene gets the adaptive method in its measured-best configuration;
   // --preset paper and --method ld are one flag away.
-  flags->method.method = "bp";
-  flags->method.preset = "tuned";
+  flags->method.method = MethodKind::Bp;
+  flags->method.preset = BpPreset::Tuned;
   CLI::App* c = app.add_subcommand(
       "view", "Open the progressive viewer (a window; headless screenshots with --headless)");
   addSceneOptions(*c, flags->scene);

@@ -18,19 +18,21 @@ std::string joined(const std::vector<std::string>& values) {
 }  // namespace
 
 void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>& skip) {
-  c.add_option("--method", o.method,
-               "Rendering method: ld (low-discrepancy sampling, box filter), bp (the BP "
-               "network adaptive sampling and reconstruction), or a baseline: fdiv "
-               "(f-divergence), fuzzy (fuzzy uncertainty, re-implemented), gem (greedy error "
-               "minimisation with its filterbank), cycles (half-buffer error)")
+  c.add_option_function<std::string>(
+       "--method", [&o](const std::string& name) { o.method = *parseMethodKind(name); },
+       "Rendering method: ld (low-discrepancy sampling, box filter), bp (the BP "
+       "network adaptive sampling and reconstruction), or a baseline: fdiv "
+       "(f-divergence), fuzzy (fuzzy uncertainty, re-implemented), gem (greedy error "
+       "minimisation with its filterbank), cycles (half-buffer error)")
       ->check(CLI::IsMember(methodNames()))
-      ->capture_default_str();
-  c.add_option("--preset", o.preset,
-               "BP configuration: paper (ALGORITHM.md's recommendations, the defaults below) or "
-               "tuned (our measured improvement: no candidate choice, no warping, plain mean, "
-               "--sigma-c 0.05; explicit flags still apply)")
-      ->check(CLI::IsMember({"paper", "tuned"}))
-      ->capture_default_str();
+      ->default_str(toString(o.method));
+  c.add_option_function<std::string>(
+       "--preset", [&o](const std::string& name) { o.preset = *parseBpPreset(name); },
+       "BP configuration: paper (ALGORITHM.md's recommendations, the defaults below) or "
+       "tuned (our measured improvement: no candidate choice, no warping, plain mean, "
+       "--sigma-c 0.05; explicit flags still apply)")
+      ->check(CLI::IsMember({toString(BpPreset::Paper), toString(BpPreset::Tuned)}))
+      ->default_str(toString(o.preset));
 
   // One flag per parameter name; the first method that has it describes it.
   for (MethodKind kind : kWithParameters) {
@@ -59,19 +61,9 @@ void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>
   }
 }
 
-MethodKind MethodOptions::kind() const {
-  const auto k = parseMethodKind(method);
-  if (!k) throw CommandError("--method: unknown method '" + method + "'");
-  return *k;
-}
-
-MethodConfig MethodOptions::config(MethodKind kind, const std::string& presetName) const {
+MethodConfig MethodOptions::config(MethodKind kind, BpPreset bpPreset) const {
   MethodConfig config = defaultConfig(kind);
-  if (BpConfig* bp = std::get_if<BpConfig>(&config)) {
-    const auto preset = parseBpPreset(presetName);
-    if (!preset) throw CommandError("--preset: unknown preset '" + presetName + "'");
-    applyBpPreset(*bp, *preset);
-  }
+  if (BpConfig* bp = std::get_if<BpConfig>(&config)) applyBpPreset(*bp, bpPreset);
   for (const MethodParam& p : methodParams(kind)) {
     const auto it = given.find(p.name);
     if (it == given.end() || !it->second.given()) continue;

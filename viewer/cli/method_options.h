@@ -15,8 +15,8 @@
 namespace penumbra {
 
 struct MethodOptions {
-  std::string method = "ld";
-  std::string preset = "paper";  // bp: paper or tuned
+  MethodKind method = MethodKind::Ld;
+  BpPreset preset = BpPreset::Paper;
 
   // A parameter flag as given on the command line.
   struct Given {
@@ -27,10 +27,10 @@ struct MethodOptions {
   };
   std::map<std::string, Given> given;  // by parameter name
 
-  MethodKind kind() const;  // throws CommandError on an unknown name
+  MethodKind kind() const { return method; }
   // The configuration of `kind`: its defaults, then (bp) the preset, then every flag given.
   // Throws CommandError naming the flag on a bad value.
-  MethodConfig config(MethodKind kind, const std::string& presetName) const;
+  MethodConfig config(MethodKind kind, BpPreset bpPreset) const;
   // The chosen method with this run shape; throws CommandError naming the flag when invalid.
   MethodSpec spec(const RunShape& shape) const;
 };
