@@ -45,7 +45,7 @@ std::shared_ptr<const Image> reference() {
   return image;
 }
 
-ViewOptions options(Overlay overlay) {
+ViewOptions options(MapId overlay) {
   ViewOptions o;
   o.scene = tire();
   o.method = "bp";
@@ -125,7 +125,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
   EXPECT_EQ(frame.snapshot->round, kRounds);
   EXPECT_EQ(frame.width, kSize);
   // Overlays draw their legend under the image.
-  if (*overlay == Overlay::None)
+  if (*overlay == MapId::None)
     EXPECT_EQ(frame.height, kSize);
   else
     EXPECT_GT(frame.height, kSize);
@@ -134,7 +134,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
 
 std::vector<std::string> overlayNames() {
   std::vector<std::string> names = {"none"};
-  for (const OverlayInfo& o : overlayList()) names.push_back(o.name);
+  for (const MapInfo& o : overlayList()) names.push_back(o.name);
   return names;
 }
 
@@ -145,16 +145,28 @@ INSTANTIATE_TEST_SUITE_P(Backends, Screenshot,
                            return std::get<0>(info.param) + "_" + std::get<1>(info.param);
                          });
 
+// The names users were promised show the same overlays as the names of before.
+TEST(HeadlessGl, OverlayAliasesShowTheirOverlays) {
+  for (const auto& [alias, name] : {std::pair{"slices", "selected"}, {"filter-scale", "alpha"}}) {
+    const auto overlay = overlayByName(alias);
+    ASSERT_TRUE(overlay.has_value()) << alias;
+    HeadlessRequest request;
+    request.rounds = kRounds;
+    const HeadlessFrame frame = renderHeadless(options(*overlay), request);
+    expectMatchesGolden(frame, name, std::string("egl_") + alias);
+  }
+}
+
 // The GL picture equals composeFrame (the CPU reference) to within one level of rounding.
 TEST(HeadlessGl, PictureMatchesTheCpuReference) {
   struct Variant {
-    Overlay overlay;
+    MapId overlay;
     float exposure;
     ToneCurve curve;
   };
-  for (const Variant v : {Variant{Overlay::None, 0.0f, ToneCurve::Srgb},
-                          Variant{Overlay::Bias, 1.0f, ToneCurve::Filmic},
-                          Variant{Overlay::FilterScale, -0.5f, ToneCurve::Srgb}}) {
+  for (const Variant v : {Variant{MapId::None, 0.0f, ToneCurve::Srgb},
+                          Variant{MapId::ErrorEstimate, 1.0f, ToneCurve::Filmic},
+                          Variant{MapId::FilterScale, -0.5f, ToneCurve::Srgb}}) {
     ViewOptions o = options(v.overlay);
     o.display.exposure = v.exposure;
     o.display.curve = v.curve;
@@ -165,8 +177,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
     const HeadlessFrame frame = renderHeadless(o, request);
     ASSERT_NE(frame.snapshot, nullptr);
     const Image& shown = frame.snapshot->reconstructed;
-    const OverlayImage overlay =
-        buildOverlay(*frame.snapshot, v.overlay, shown, reference().get(), o.bp.filter.alphas);
+    const OverlayImage overlay = buildOverlay(*frame.snapshot, v.overlay, shown, reference().get());
     const Image cpu = composeFrame(shown, display, &overlay, 0.6f);
     int worst = 0;
     for (int y = 0; y < kSize; ++y)
@@ -183,7 +194,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
 // Zoomed in, the Selected overlay outlines the slices inside each pixel; without an
 // overlay every image pixel is a flat block.
 TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
-  auto blocksWithDetail = [](Overlay overlay) {
+  auto blocksWithDetail = [](MapId overlay) {
     HeadlessRequest request;
     request.rounds = 2;
     request.width = request.height = 128;
@@ -204,8 +215,8 @@ TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
       }
     return detailed;
   };
-  EXPECT_EQ(blocksWithDetail(Overlay::None), 0);
-  EXPECT_EQ(blocksWithDetail(Overlay::Selected), 64);
+  EXPECT_EQ(blocksWithDetail(MapId::None), 0);
+  EXPECT_EQ(blocksWithDetail(MapId::Selected), 64);
 }
 
 TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
@@ -213,11 +224,11 @@ TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
   request.rounds = 2;
   request.width = 900;
   request.height = 600;
-  const HeadlessFrame plain = renderHeadless(options(Overlay::None), request);
+  const HeadlessFrame plain = renderHeadless(options(MapId::None), request);
   request.withUi = true;
   request.inspectX = 30;
   request.inspectY = 40;
-  const HeadlessFrame ui = renderHeadless(options(Overlay::None), request);
+  const HeadlessFrame ui = renderHeadless(options(MapId::None), request);
   ASSERT_EQ(plain.rgb.size(), ui.rgb.size());
   // The panel (top left) and the inspector (top right) cover what was background.
   auto changed = [&](int x0, int y0, int x1, int y1) {
@@ -254,7 +265,7 @@ TEST_F(ShaderDirectory, ACompileErrorNamesTheFileAndCarriesTheLog) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(Overlay::None), request);
+    renderHeadless(options(MapId::None), request);
     FAIL() << "no error for a broken shader";
   } catch (const GlError& e) {
     const std::string message = e.what();
@@ -269,7 +280,7 @@ TEST_F(ShaderDirectory, AMissingShaderNamesTheFile) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(Overlay::None), request);
+    renderHeadless(options(MapId::None), request);
     FAIL() << "no error for a missing shader";
   } catch (const GlError& e) {
     EXPECT_NE(std::string(e.what()).find("composite.frag"), std::string::npos) << e.what();

@@ -167,10 +167,14 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
     j["training_simd"] = networkSimdName();
     // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
     // filtering are, so both histograms are part of every run's record.
-    j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
+    const SnapshotMap* bias = snap.map(MapId::ErrorEstimate);
+    j["bias_histogram"] = {
+        {"bin_width", 0.05},
+        {"counts", histogram(bias ? bias->values : std::vector<float>{}, 20, 1.0f)}};
     std::vector<uint64_t> alphaCounts(config.filter.alphas.size(), 0);
-    for (uint8_t a : snap.alphaIndex)
-      if (a < alphaCounts.size()) ++alphaCounts[a];
+    if (const SnapshotMap* alpha = snap.map(MapId::FilterScale))
+      for (float a : alpha->values)
+        if (a >= 0 && size_t(a) < alphaCounts.size()) ++alphaCounts[size_t(a)];
     j["alpha_histogram"] = {{"alphas", config.filter.alphas}, {"counts", alphaCounts}};
   } else {
     const AllocationConfig& a = spec.allocation;
@@ -179,11 +183,12 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
                    {"rounds", a.rounds}};
     if (spec.kind == MethodKind::FDiv) j["config"]["divergence"] = flags.method.divergence;
     if (spec.kind == MethodKind::Gem) j["config"]["gamma"] = spec.gamma;
-    if (!snap.alphaIndex.empty()) {
-      std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
-      for (uint8_t a : snap.alphaIndex)
-        if (a < counts.size()) ++counts[a];
-      j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
+    if (const SnapshotMap* scale = snap.map(MapId::FilterScale)) {
+      const std::vector<std::string>& labels = scale->legend.categories;
+      std::vector<uint64_t> counts(labels.size(), 0);
+      for (float a : scale->values)
+        if (a >= 0 && size_t(a) < counts.size()) ++counts[size_t(a)];
+      j["filter_scale_histogram"] = {{"scales", labels}, {"counts", counts}};
     }
   }
   j["per_round"] = rounds;
@@ -210,17 +215,21 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
     method->runRound(nullptr);
     if (wantRounds) {
       const auto snap = method->snapshot(false);
+      const SnapshotMap* selected = snap->map(MapId::Selected);
       nlohmann::json round = {
           {"round", snap->round},
           {"kept_spp", double(snap->keptSamples) / pixels},
           {"traced_spp", double(snap->tracedSamples) / pixels},
-          {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+          {"pixels_sampled",
+           selected ? std::count(selected->values.begin(), selected->values.end(), 1.0f) : 0},
           {"seconds", snap->seconds}};
-      if (spec.kind == MethodKind::Bp) {
+      const SnapshotMap* bias = snap->map(MapId::ErrorEstimate);
+      const SnapshotMap* er = snap->map(MapId::NetworkError);
+      if (spec.kind == MethodKind::Bp && bias && er) {
         size_t difficult = 0;
-        for (size_t p = 0; p < snap->bias.size(); ++p)
+        for (size_t p = 0; p < bias->values.size(); ++p)
           difficult +=
-              snap->bias[p] > spec.bp.psi && snap->networkError[p] > spec.bp.network.errorThreshold;
+              bias->values[p] > spec.bp.psi && er->values[p] > spec.bp.network.errorThreshold;
         round["difficult_pixels"] = difficult;
       }
       rounds.push_back(round);
@@ -233,7 +242,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   const bool reconstructed = spec.kind != MethodKind::Bp || spec.bp.reconstruct;
   writeImage(flags.output, reconstructed ? snap->reconstructed : snap->raw, flags.exposure);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
-  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap, spec.bp.filter.alphas);
+  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap);
   if (!flags.statsPath.empty())
     writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
                           threads);

@@ -289,17 +289,18 @@ std::string reportHtml(const Prepared& p) {
   }
 
   // Maps: one row per kind, only methods that have it.
-  const auto mapRow = [&](const std::string& heading, const std::string& note,
-                          Png MethodImages::*which, bool withFilterLegend) {
+  const auto mapRow = [&](const std::string& heading, const std::string& note, auto pngOf,
+                          const ReportMap* map) {
     std::string row;
     for (size_t m = 0; m < r.methods.size(); ++m) {
-      const Png& png = p.images[m].*which;
+      const Png& png = pngOf(p.images[m]);
       if (png.file.empty()) continue;
       std::string caption = "<b>" + htmlEscape(r.methods[m].label) + "</b>";
-      if (which == &MethodImages::estimate && !r.methods[m].errorEstimateName.empty())
-        caption += " · " + htmlEscape(r.methods[m].errorEstimateName);
-      if (withFilterLegend) {
-        const auto& labels = r.methods[m].filterScaleLabels;
+      const SnapshotMap* values = map ? findMap(r.methods[m].maps, map->id) : nullptr;
+      if (values && map->scale == ReportScale::OwnPercentile && !values->label.empty())
+        caption += " · " + htmlEscape(values->label);
+      if (values && map->scale == ReportScale::Categories) {
+        const auto& labels = values->legend.categories;
         caption += "<br>";
         for (size_t i = 0; i < labels.size(); ++i)
           caption += "<span class=\"swatch\" style=\"background:" +
@@ -318,18 +319,16 @@ std::string reportHtml(const Prepared& p) {
             (note.empty() ? "" : "<p class=\"note\">" + htmlEscape(note) + "</p>") +
             "<div class=\"row\">" + row + "</div></section>\n";
   };
-  mapRow("Per-pixel error",
-         "Relative squared error against the reference (first seed), one "
-         "shared colour bar from 0 to " +
-             sci(p.errorScale) + " (99th percentile over all methods).",
-         &MethodImages::error, false);
-  mapRow("Kept samples per pixel", "Shared colour bar across methods.", &MethodImages::density,
-         false);
-  mapRow("Error estimates",
-         "Each method's own per-pixel error estimate; colour bar 0 to its 99th "
-         "percentile.",
-         &MethodImages::estimate, false);
-  mapRow("Filter scale", "Reconstruction filter chosen per pixel.", &MethodImages::filter, true);
+  mapRow(
+      "Per-pixel error",
+      "Relative squared error against the reference (first seed), one "
+      "shared colour bar from 0 to " +
+          sci(p.errorScale) + " (99th percentile over all methods).",
+      [](const MethodImages& i) -> const Png& { return i.error; }, nullptr);
+  for (size_t k = 0; k < reportMaps().size(); ++k)
+    mapRow(
+        reportMaps()[k].heading, reportMaps()[k].note,
+        [k](const MethodImages& i) -> const Png& { return i.maps[k]; }, &reportMaps()[k]);
 
   html +=
       "<footer>Written by penumbra compare. Beside this page: results.json, results.csv, "

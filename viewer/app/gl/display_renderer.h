@@ -13,6 +13,10 @@
 
 namespace penumbra {
 
+// The slices texture holds per pixel slice B + 1, slice C + 1 and the selected flag; this
+// texel value is "no slice".
+inline constexpr uint8_t kSliceTexelNone = 0;
+
 struct DisplayView {
   float zoom = 1.0f;               // screen pixels per image pixel
   float centerX = 0, centerY = 0;  // image position at the viewport centre
@@ -35,9 +39,9 @@ class DisplayRenderer {
 
   void setImage(const Image& image);
   void setOverlay(const Image& colors);  // linear RGB, the image's size
-  // Per pixel: slice B, slice C (-1 none) and the selected flag of the last round.
-  void setSlices(int width, int height, const std::vector<int8_t>& b, const std::vector<int8_t>& c,
-                 const std::vector<uint8_t>& selected);
+  // Per pixel: slice B, slice C (-1 none) and the selected flag of the last round, from the
+  // snapshot's SliceB, SliceC and Selected maps (none where it lacks one).
+  void setSlices(const Snapshot& snapshot);
   void setLegend(const Image& strip);  // empty: none
 
   // Draws into the bound framebuffer's viewport of width x height (both > 0).
