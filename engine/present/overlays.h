@@ -18,9 +18,10 @@ namespace penumbra {
 
 // ---- Display transform ---------------------------------------------------------------
 
-enum class ToneCurve {
-  Srgb,   // clamp to [0, 1], sRGB encode
-  Filmic  // a filmic shoulder (Narkowicz's fit of the ACES curve), then sRGB encode
+// The values are the shaders' too (TONE_CURVE_SRGB, TONE_CURVE_FILMIC, defined from these).
+enum class ToneCurve : int {
+  Srgb = 0,   // clamp to [0, 1], sRGB encode
+  Filmic = 1  // a filmic shoulder (Narkowicz's fit of the ACES curve), then sRGB encode
 };
 
 struct DisplaySettings {

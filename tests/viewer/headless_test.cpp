@@ -14,6 +14,8 @@
 #include "present/overlays.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
+#include "viewer/app/gl/display_renderer.h"
+#include "viewer/app/gl/shader.h"
 
 #include <gtest/gtest.h>
 
@@ -155,6 +157,22 @@ TEST(HeadlessGl, OverlayAliasesShowTheirOverlays) {
     const HeadlessFrame frame = renderHeadless(options(*overlay), request);
     expectMatchesGolden(frame, name, std::string("egl_") + alias);
   }
+}
+
+// The shaders get the C++ enums' values as #defines after their #version line; the line
+// numbers of the compiler's messages stay the file's.
+TEST(ShaderDefines, AreInjectedAfterTheVersionLine) {
+  const std::vector<ShaderDefine> defines = {{"A", "1"}, {"B", "2u"}};
+  EXPECT_EQ(injectDefines("#version 330 core\nvoid main() {}\n", defines),
+            "#version 330 core\n#define A 1\n#define B 2u\n#line 2\nvoid main() {}\n");
+  EXPECT_EQ(injectDefines("void main() {}\n", defines),
+            "#define A 1\n#define B 2u\n#line 1\nvoid main() {}\n");
+  EXPECT_EQ(injectDefines("#version 330 core\n", {}), "#version 330 core\n");
+  // The display shaders' constants come from the C++ enums.
+  bool filmic = false;
+  for (const ShaderDefine& d : displayShaderDefines())
+    if (d.name == "TONE_CURVE_FILMIC") filmic = d.value == std::to_string(int(ToneCurve::Filmic));
+  EXPECT_TRUE(filmic);
 }
 
 // The GL picture equals composeFrame (the CPU reference) to within one level of rounding.

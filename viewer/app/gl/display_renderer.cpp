@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <string>
 #include <utility>
 
 namespace penumbra {
@@ -47,14 +48,23 @@ void useProgram(unsigned program,
 
 }  // namespace
 
+std::vector<ShaderDefine> displayShaderDefines() {
+  return {
+      {"TONE_CURVE_SRGB", std::to_string(int(ToneCurve::Srgb))},
+      {"TONE_CURVE_FILMIC", std::to_string(int(ToneCurve::Filmic))},
+      {"SLICE_TEXEL_NONE", std::to_string(int(kSliceTexelNone)) + "u"},
+  };
+}
+
 DisplayRenderer::DisplayRenderer() {
   std::vector<unsigned> built;
+  const std::vector<ShaderDefine> defines = displayShaderDefines();
   try {
-    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag");
+    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag", defines);
     built.push_back(compositeProgram_);
-    viewProgram_ = buildProgram("fullscreen.vert", "view.frag");
+    viewProgram_ = buildProgram("fullscreen.vert", "view.frag", defines);
     built.push_back(viewProgram_);
-    quadProgram_ = buildProgram("quad.vert", "quad.frag");
+    quadProgram_ = buildProgram("quad.vert", "quad.frag", defines);
   } catch (...) {
     for (unsigned p : built) glDeleteProgram(p);
     throw;
@@ -116,7 +126,7 @@ void DisplayRenderer::composite(const DisplayView& view) {
   const unsigned p = compositeProgram_;
   useProgram(p, {{"image", image_}, {"overlay", overlay_}});
   glUniform1f(uniform(p, "exposure"), view.display.exposure);
-  glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
+  glUniform1i(uniform(p, "curve"), int(view.display.curve));
   glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
   glUniform1f(uniform(p, "blend"), view.blend);
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "present/overlays.h"
+#include "viewer/app/gl/shader.h"
 
 #include <cstdint>
 #include <vector>
@@ -14,8 +15,12 @@
 namespace penumbra {
 
 // The slices texture holds per pixel slice B + 1, slice C + 1 and the selected flag; this
-// texel value is "no slice".
+// texel value is "no slice" (the shaders' SLICE_TEXEL_NONE).
 inline constexpr uint8_t kSliceTexelNone = 0;
+
+// The #defines the display shaders are compiled with, from the C++ enums and constants above
+// (ToneCurve, kSliceTexelNone): the GLSL code uses these names, never numbers of its own.
+std::vector<ShaderDefine> displayShaderDefines();
 
 struct DisplayView {
   float zoom = 1.0f;               // screen pixels per image pixel
