@@ -14,6 +14,8 @@
 #
 # Renders are small (64x64, 8 spp) and use the SSE training kernel, so the files do not depend
 # on the CPU's widest instruction set: both builds run on the same machine anyway.
+# Besides render (with --aov-dir maps) it runs headless views with overlays and compare (its
+# report images).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -72,7 +74,13 @@ views=(
   "view-bp-paper|--method bp --preset paper --overlay alpha"
   "view-gem|--method gem --overlay bias"
   "view-fdiv|--method fdiv --overlay selected"
+  "view-bp-er|--method bp --overlay network_error"
+  "view-bp-traced|--method bp --overlay traced"
+  "view-gem-alpha|--method gem --overlay alpha"
+  "view-ld-traced|--method ld --overlay traced"
 )
+# compare's report on one scene: its PNG images (its text files carry timings and paths).
+compare_methods=ld,fdiv,fuzzy,gem,cycles,bp:tuned,bp:paper,bp:raw
 
 run_all() {  # binary, output folder
   local bin=$1 dir=$2 name flags scene d f
@@ -102,6 +110,14 @@ run_all() {  # binary, output folder
         { echo "  $scene/$name failed:"; cat "$d/log.txt"; }
     done
   done
+  if [[ "tire/compare" =~ $only ]]; then
+    d="$dir/tire/compare"
+    mkdir -p "$d"
+    "$bin" compare scenes/tire.json --size 32x32 --spp 8 --methods "$compare_methods" \
+      --reference-spp 32 --seeds 1 --threads 2 --out "$d" -q >"$d/log.txt" 2>&1 ||
+      { echo "  tire/compare failed:"; cat "$d/log.txt"; }
+    find "$d" -type f ! -path "$d/images/*" ! -name log.txt -delete
+  fi
   # Logs carry timings; they are not compared.
   find "$dir" -name log.txt -delete
 }
