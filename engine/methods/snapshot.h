@@ -25,19 +25,19 @@ namespace penumbra {
 
 // Every debug map a snapshot can hold, and the viewer's "no overlay".
 enum class MapId : uint8_t {
-  None,            // no map: the viewer's "none" overlay
-  ErrorEstimate,   // the error estimate or score that drives sampling (BP's bias, a baseline's
-                   // score)
-  Selected,        // 1 where the last round added samples, else 0
-  FilterScale,     // the reconstruction filter chosen per pixel (BP's alpha, GEM's sigma)
-  SampleCount,     // kept samples per pixel
-  TracedCount,     // traced camera samples per pixel
-  NetworkError,    // er of the pixel's network (BP)
-  ReferenceError,  // relative squared error against a reference: computed in present/, not by a
-                   // method
-  Prediction,      // I', the network's prediction, tone-mapped RGB (BP)
-  SliceB,          // the slice B the last round chose, -1 for none (BP)
-  SliceC,          // the slice C the last round chose, -1 for none (BP)
+  None,  // no map: the viewer's "none" overlay
+  // The error estimate or score that drives sampling: BP's bias, a baseline's own score.
+  ErrorEstimate,
+  Selected,      // 1 where the last round added samples, else 0
+  FilterScale,   // the reconstruction filter chosen per pixel (BP's alpha, GEM's sigma)
+  SampleCount,   // kept samples per pixel
+  TracedCount,   // traced camera samples per pixel
+  NetworkError,  // er of the pixel's network (BP)
+  // The relative squared error against a reference: computed in present/, not by a method.
+  ReferenceError,
+  Prediction,  // I', the network's prediction, tone-mapped RGB (BP)
+  SliceB,      // the slice B the last round chose, -1 for none (BP)
+  SliceC,      // the slice C the last round chose, -1 for none (BP)
 };
 
 // How a map's values become colours.

@@ -24,7 +24,9 @@ TEST(MapTable, NamesAreUniqueAndRoundTrip) {
     EXPECT_TRUE(ids.insert(m.id).second) << m.name << " has a second row";
     ASSERT_NE(m.name, nullptr);
     EXPECT_TRUE(names.insert(m.name).second) << m.name;
-    if (m.alias) EXPECT_TRUE(names.insert(m.alias).second) << m.alias;
+    if (m.alias) {
+      EXPECT_TRUE(names.insert(m.alias).second) << m.alias;
+    }
     ASSERT_NE(m.panelLabel, nullptr);
     EXPECT_GT(std::string(m.panelLabel).size(), 0u);
     EXPECT_EQ(mapByName(m.name), m.id);
@@ -124,8 +126,11 @@ void expectMapsExplained(const Snapshot& snap, const std::string& what) {
         break;
       case ColorMapKind::Categorical:
         EXPECT_FALSE(m.legend.categories.empty()) << what << ": " << name << " has no categories";
-        for (float v : m.values)
-          if (v >= 0) EXPECT_LT(size_t(v), m.legend.categories.size()) << what << ": " << name;
+        for (float v : m.values) {
+          if (v >= 0) {
+            EXPECT_LT(size_t(v), m.legend.categories.size()) << what << ": " << name;
+          }
+        }
         break;
       case ColorMapKind::Rgb:
         EXPECT_EQ(m.channels(), 3u);
@@ -153,15 +158,20 @@ TEST_P(EveryMethod, PublishesOnlyNamedAndExplainedMaps) {
   const auto snap = method->snapshot(true);
   expectMapsExplained(*snap, name + " after two rounds");
   EXPECT_EQ(snap->source, SnapshotSource::Method);
-  if (GetParam() != MethodKind::Ld) EXPECT_NE(snap->map(MapId::ErrorEstimate), nullptr) << name;
-  if (GetParam() == MethodKind::Bp || GetParam() == MethodKind::Gem)
+  if (GetParam() != MethodKind::Ld) {
+    EXPECT_NE(snap->map(MapId::ErrorEstimate), nullptr) << name;
+  }
+  if (GetParam() == MethodKind::Bp || GetParam() == MethodKind::Gem) {
     EXPECT_NE(snap->map(MapId::FilterScale), nullptr) << name;
+  }
   // The inspector's values that stand for a map name one the snapshot has.
   const PixelInspection in = method->inspect(5, 6);
   ASSERT_TRUE(in.valid);
   for (const InspectedValue& v : in.values) {
     EXPECT_FALSE(v.line.empty()) << name << ": " << v.label;
-    if (v.map != MapId::None) EXPECT_NE(snap->map(v.map), nullptr) << name << ": " << v.label;
+    if (v.map != MapId::None) {
+      EXPECT_NE(snap->map(v.map), nullptr) << name << ": " << v.label;
+    }
   }
 }
 

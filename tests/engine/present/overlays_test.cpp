@@ -72,7 +72,9 @@ TEST(Overlays, NamesRoundTripAndNumberKeysFollowTheList) {
     ASSERT_TRUE(overlayByName(o.name).has_value()) << o.name;
     EXPECT_EQ(*overlayByName(o.name), o.id);
     EXPECT_STREQ(overlayName(o.id), o.name);
-    if (o.alias) EXPECT_EQ(overlayByName(o.alias), o.id) << o.alias;
+    if (o.alias) {
+      EXPECT_EQ(overlayByName(o.alias), o.id) << o.alias;
+    }
   }
   EXPECT_EQ(overlayByName("none"), MapId::None);
   EXPECT_EQ(overlayByName("slices"), MapId::Selected);
