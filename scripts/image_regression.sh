@@ -5,15 +5,18 @@
 #
 # Usage: scripts/image_regression.sh [--base COMMIT | --base-bin PATH] [--new-bin PATH]
 #                                    [--out DIR] [--only REGEX]
-#   --base COMMIT   build COMMIT in a temporary worktree (default: HEAD~1 is NOT assumed; the
-#                   commit recorded in BASE_COMMIT below, the last one before the issue-11 refactor)
-#   --base-bin PATH use an already built penumbra as the base
+#   --base COMMIT   build COMMIT in a temporary worktree (default: the commit recorded in
+#                   BASE_COMMIT below, the last one before the issue-11 refactor)
+#   --base-bin PATH use an already built penumbra of that commit as the base; it reads the
+#                   commit's own shaders (PENUMBRA_SHADER_DIR), exported from git
 #   --new-bin PATH  the build to check (default: build/penumbra, built by scripts/setup.sh)
 #   --only REGEX    only the cases whose name matches (e.g. 'bp|gem')
 # Exit status: 0 when every file is identical, 1 when one differs (listed), 2 on a usage error.
 #
 # Renders are small (64x64, 8 spp) and use the SSE training kernel, so the files do not depend
 # on the CPU's widest instruction set: both builds run on the same machine anyway.
+# Besides render (with --aov-dir maps) it runs headless views with overlays and compare (its
+# report images).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -38,14 +41,18 @@ done
 [ -n "$base" ] || base=$BASE_COMMIT
 [ -x "$new_bin" ] || { echo "image_regression: no build at $new_bin (run scripts/setup.sh)" >&2; exit 2; }
 
+tree=$(mktemp -d /tmp/penumbra-base.XXXXXX)
+trap 'git -C "$root" worktree remove --force "$tree/src" >/dev/null 2>&1 || true; rm -rf "$tree"' EXIT
+# The base's viewer must draw with the base's shaders, whatever the binary was built from.
+base_shaders="$tree/base-shaders"
+mkdir -p "$base_shaders"
+git -C "$root" archive "$base" shaders | tar -x -C "$base_shaders"
 if [ -z "$base_bin" ]; then
-  tree=$(mktemp -d /tmp/penumbra-base.XXXXXX)
-  trap 'git -C "$root" worktree remove --force "$tree" >/dev/null 2>&1 || true; rm -rf "$tree"' EXIT
-  echo "image_regression: building $base in $tree"
-  git -C "$root" worktree add --detach "$tree" "$base" >/dev/null
-  cmake -S "$tree" -B "$tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$tree/build" --target penumbra -j "$(nproc 2>/dev/null || echo 2)" >/dev/null
-  base_bin="$tree/build/penumbra"
+  echo "image_regression: building $base in $tree/src"
+  git -C "$root" worktree add --detach "$tree/src" "$base" >/dev/null
+  cmake -S "$tree/src" -B "$tree/src/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$tree/src/build" --target penumbra -j "$(nproc 2>/dev/null || echo 2)" >/dev/null
+  base_bin="$tree/src/build/penumbra"
 fi
 [ -x "$base_bin" ] || { echo "image_regression: no base build at $base_bin" >&2; exit 2; }
 
@@ -72,7 +79,13 @@ views=(
   "view-bp-paper|--method bp --preset paper --overlay alpha"
   "view-gem|--method gem --overlay bias"
   "view-fdiv|--method fdiv --overlay selected"
+  "view-bp-er|--method bp --overlay network_error"
+  "view-bp-traced|--method bp --overlay traced"
+  "view-gem-alpha|--method gem --overlay alpha"
+  "view-ld-traced|--method ld --overlay traced"
 )
+# compare's report on one scene: its PNG images (its text files carry timings and paths).
+compare_methods=ld,fdiv,fuzzy,gem,cycles,bp:tuned,bp:paper,bp:raw
 
 run_all() {  # binary, output folder
   local bin=$1 dir=$2 name flags scene d f
@@ -102,12 +115,20 @@ run_all() {  # binary, output folder
         { echo "  $scene/$name failed:"; cat "$d/log.txt"; }
     done
   done
+  if [[ "tire/compare" =~ $only ]]; then
+    d="$dir/tire/compare"
+    mkdir -p "$d"
+    "$bin" compare scenes/tire.json --size 32x32 --spp 8 --methods "$compare_methods" \
+      --reference-spp 32 --seeds 1 --threads 2 --out "$d" -q >"$d/log.txt" 2>&1 ||
+      { echo "  tire/compare failed:"; cat "$d/log.txt"; }
+    find "$d" -type f ! -path "$d/images/*" ! -name log.txt -delete
+  fi
   # Logs carry timings; they are not compared.
   find "$dir" -name log.txt -delete
 }
 
 echo "image_regression: rendering with the base ($base_bin)"
-run_all "$base_bin" "$out/base"
+PENUMBRA_SHADER_DIR="$base_shaders/shaders" run_all "$base_bin" "$out/base"
 echo "image_regression: rendering with the new build ($new_bin)"
 run_all "$new_bin" "$out/new"
 

@@ -3,12 +3,14 @@
 // setting changes: exposure, tone curve and sRGB encoding of the linear render, then the
 // overlay blended in display space. engine/present/overlays.cpp (displayTransform, composePixel) is
 // the CPU reference of these formulas; view.frag then shows the result zoomed and panned.
+// The upper-case names are #defines the viewer injects from its C++ enums
+// (viewer/app/gl/display_renderer.cpp, displayShaderDefines).
 
 uniform sampler2D image;    // linear RGB, one texel per pixel
 uniform sampler2D overlay;  // overlay colours, linear RGB
 uniform float exposure;     // stops
-uniform int curve;          // 0: sRGB, 1: filmic
-uniform int hasOverlay;
+uniform int curve;          // TONE_CURVE_SRGB or TONE_CURVE_FILMIC (ToneCurve's values)
+uniform bool hasOverlay;
 uniform float blend;
 
 out vec4 fragColor;
@@ -28,7 +30,7 @@ float filmic(float x) {
 float displayChannel(float linear, float scale) {
   if (isnan(linear)) return 0.0;
   float x = linear * scale;
-  if (curve == 1) x = isinf(x) ? 1.0 : filmic(x);
+  if (curve == TONE_CURVE_FILMIC) x = isinf(x) ? 1.0 : filmic(x);
   return srgbEncode(x);
 }
 
@@ -39,7 +41,7 @@ void main() {
   float scale = exp2(exposure);
   vec3 color = vec3(displayChannel(linear.r, scale), displayChannel(linear.g, scale),
                     displayChannel(linear.b, scale));
-  if (hasOverlay == 1) {
+  if (hasOverlay) {
     float b = clamp(blend, 0.0, 1.0);
     vec3 o = texelFetch(overlay, texel, 0).rgb;
     color = color * (1.0 - b) + vec3(srgbEncode(o.r), srgbEncode(o.g), srgbEncode(o.b)) * b;

@@ -2,14 +2,15 @@
 // Shows the composited picture (composite.frag) in the viewport: nearest-neighbour zoom and
 // pan, the slices of the last round with B and C filled when zoomed in (Selected overlay),
 // and the inspected pixel outlined. Cheap per fragment, so it can run every frame.
+// SLICE_TEXEL_NONE is a #define the viewer injects from its C++ constant (kSliceTexelNone).
 
 uniform sampler2D picture;    // display-encoded colours, one texel per image pixel
-uniform usampler2D slices;    // r: slice B + 1, g: slice C + 1 (0: none)
+uniform usampler2D slices;    // r: slice B + 1, g: slice C + 1 (SLICE_TEXEL_NONE: none)
 uniform vec2 imageSize;
 uniform vec2 viewportSize;
 uniform vec2 viewCenter;      // image position at the viewport centre
 uniform float zoom;           // screen pixels per image pixel
-uniform int drawSlices;
+uniform bool drawSlices;
 uniform int slicesPerSide;
 uniform ivec2 inspected;      // (-1, -1): none
 uniform vec3 background;
@@ -26,13 +27,15 @@ void main() {
   ivec2 texel = ivec2(floor(pos));
   vec3 color = texelFetch(picture, texel, 0).rgb;
   vec2 local = pos - vec2(texel);  // position inside the pixel, [0,1)^2, y down
-  if (drawSlices == 1 && slicesPerSide > 0) {
+  if (drawSlices && slicesPerSide > 0) {
     uvec4 s = texelFetch(slices, texel, 0);
     float n = float(slicesPerSide);
     ivec2 cell = ivec2(floor(local * n));
     int slice = cell.x + slicesPerSide * cell.y;
-    if (s.r > 0u && slice == int(s.r) - 1) color = mix(color, vec3(0.25, 0.55, 1.0), 0.45);
-    if (s.g > 0u && slice == int(s.g) - 1) color = mix(color, vec3(1.0, 0.55, 0.1), 0.45);
+    if (s.r != SLICE_TEXEL_NONE && slice == int(s.r) - 1)
+      color = mix(color, vec3(0.25, 0.55, 1.0), 0.45);
+    if (s.g != SLICE_TEXEL_NONE && slice == int(s.g) - 1)
+      color = mix(color, vec3(1.0, 0.55, 0.1), 0.45);
     // Lines about one screen pixel wide on the slice borders.
     vec2 toLine = abs(fract(local * n + 0.5) - 0.5) / n * zoom;
     if (min(toLine.x, toLine.y) < 0.6) color = mix(color, vec3(0.6), 0.6);

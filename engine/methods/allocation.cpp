@@ -205,12 +205,11 @@ std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
   snap->height = height_;
   snap->raw = Image(width_, height_);
   for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = pixelMean(p);
-  snap->bias = scores_;
-  snap->biasLabel = scoreName();
-  snap->biasRange = 0.0f;
-  snap->selected = selected_;
-  snap->keptCount = kept_;
-  snap->tracedCount = drawn_;
+  // A score has no fixed scale: its colour range ends at its 99th percentile.
+  snap->addMap(MapId::ErrorEstimate, scoreName(), scores_,
+               MapLegend::sequential(0.0f, percentileOf(scores_, 0.99f)));
+  addSelectedMap(*snap, selected_);
+  addSampleCountMaps(*snap, kept_, drawn_);
   for (uint32_t k : kept_) snap->keptSamples += k;
   snap->tracedSamples = drawnTotal_;
   snap->rays = counters_.rays;
@@ -228,13 +227,20 @@ PixelInspection AllocationMethod::inspect(int x, int y) const {
   if (!in.valid) return in;
   const size_t p = size_t(y) * width_ + x;
   in.estimate = pixelMean(p);
-  in.bias = scores_[p];
   in.kept = kept_[p];
   in.traced = drawn_[p];
   in.addedLastRound = addedLastRound_[p];
   in.rank = rank_[p];
   in.rankedPixels = rankedLastRound_;
   char line[200];
+  std::snprintf(line, sizeof line, "%s %.4g", scoreName().c_str(), double(scores_[p]));
+  in.addValue(scoreName(), {scores_[p]}, line, MapId::ErrorEstimate);
+  if (in.rank >= 0) {
+    std::snprintf(line, sizeof line, "rank %d; the last round sampled the top %zu", in.rank + 1,
+                  in.rankedPixels);
+    in.addValue("rank", {float(in.rank + 1), float(in.rankedPixels)}, line);
+  }
+  addInspectedValues(p, in);
   if (rounds_ == 1) {
     std::snprintf(line, sizeof line, "initial pass: %d samples in every pixel",
                   schedule_.initialSpp());

@@ -91,6 +91,8 @@ class AllocationMethod : public ProgressiveMethod {
   // The reconstructed image and the method's maps; the default is the box mean.
   virtual void finishSnapshot(Snapshot& snap, bool reconstructImage,
                               const std::atomic<bool>* cancel);
+  // The criterion's own values for the pixel inspector, after the score and the rank.
+  virtual void addInspectedValues(size_t pixel, PixelInspection& in) const {}
   virtual size_t statisticsBytes() const = 0;
   virtual std::string scoreName() const { return "score"; }
   // Runs body(p) for every pixel p in [0, count), in parallel.

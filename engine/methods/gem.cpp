@@ -222,13 +222,18 @@ class GemMethod final : public AllocationMethod {
     const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
     snap.reconstructed = Image(width_, height_);
     snap.reconstructed.pixels = s.estimate;
-    snap.alphaIndex = s.scale;
-    snap.filterScaleLabels = {"none"};
-    for (float sigma : gem::finalScales()) {
-      char label[24];
-      std::snprintf(label, sizeof label, "s=%.2g", double(sigma));
-      snap.filterScaleLabels.push_back(label);
-    }
+    snap.addMap(MapId::FilterScale, "filter scale", asFloats(s.scale),
+                MapLegend::categorical(scaleLabels()));
+    shownScale_ = s.scale;  // what the inspector tells of the pixel
+  }
+
+  void addInspectedValues(size_t pixel, PixelInspection& in) const override {
+    if (pixel >= shownScale_.size()) return;
+    const uint8_t scale = shownScale_[pixel];
+    const std::vector<std::string> labels = scaleLabels();
+    in.addValue("filter scale", {float(scale)},
+                "filter scale " + (scale < labels.size() ? labels[scale] : std::string("?")),
+                MapId::FilterScale);
   }
 
   size_t statisticsBytes() const override {
@@ -253,7 +258,19 @@ class GemMethod final : public AllocationMethod {
     return st;
   }
 
+  // The filter scales' labels: index 0 is the unfiltered mean, then the final sigmas.
+  static std::vector<std::string> scaleLabels() {
+    std::vector<std::string> labels = {"none"};
+    for (float sigma : gem::finalScales()) {
+      char label[24];
+      std::snprintf(label, sizeof label, "s=%.2g", double(sigma));
+      labels.push_back(label);
+    }
+    return labels;
+  }
+
   double gamma_;
+  std::vector<uint8_t> shownScale_;  // the scale per pixel of the last reconstructed snapshot
   std::vector<glm::dvec3> mean_, m2_;
   std::vector<uint32_t> n_;
   std::vector<uint8_t> samplingScale_;

@@ -99,9 +99,8 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool, const std::atomic<bool>*) {
   snap->raw = Image(width_, height_);
   for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = vec3(mean_[p]);
   snap->reconstructed = snap->raw;
-  snap->keptCount.assign(count_.begin(), count_.end());
-  snap->tracedCount.assign(pixelCount_, drawn_);
-  snap->selected.assign(pixelCount_, 1);
+  addSelectedMap(*snap, std::vector<uint8_t>(pixelCount_, 1));
+  addSampleCountMaps(*snap, count_, std::vector<uint32_t>(pixelCount_, drawn_));
   for (uint32_t c : count_) snap->keptSamples += c;
   snap->tracedSamples = uint64_t(drawn_) * pixelCount_;
   snap->rays = counters_.rays;

@@ -5,57 +5,17 @@
 #pragma once
 
 #include "core/image.h"
+#include "methods/snapshot.h"
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra {
-
-// Wall time per phase, summed over the rounds so far (seconds).
-struct PhaseTimes {
-  double trace = 0;        // path tracing, including candidate samples
-  double train = 0;        // network (re)training and the bias estimate
-  double select = 0;       // ranking pixels, slice choice, candidate scoring
-  double reconstruct = 0;  // pixel estimates and the filter
-  double total() const { return trace + train + select + reconstruct; }
-};
-
-struct Snapshot {
-  int round = 0;  // rounds completed; 1 after the coarse pass
-  bool final = false;
-  int width = 0, height = 0;
-  Image raw;            // per-pixel estimate, linear RGB
-  Image reconstructed;  // after the method's filter (equals raw without one)
-
-  // Debug maps, one value per pixel (empty where a method has none).
-  std::vector<float> bias;             // error estimate that drives sampling
-  std::vector<float> networkError;     // er of the pixel's network
-  Image prediction;                    // I', tone-mapped RGB
-  std::vector<uint8_t> selected;       // 1 where the last round added samples
-  std::vector<int8_t> sliceB, sliceC;  // slices chosen in the last round, -1 for none
-  std::vector<uint32_t> keptCount;     // kept samples per pixel
-  std::vector<uint32_t> tracedCount;   // traced camera samples per pixel
-  std::vector<uint8_t> alphaIndex;     // filter scale chosen per pixel
-  // How the maps are labelled: the bias map's name and range (0: up to its 99th
-  // percentile, for criteria without a fixed scale) and, where the method has its own,
-  // the filter scales' labels (else the caller's alphas label them).
-  std::string biasLabel = "bias";
-  float biasRange = 1.0f;
-  std::vector<std::string> filterScaleLabels;
-  int slicesPerSide = 0;
-
-  uint64_t keptSamples = 0, tracedSamples = 0, rays = 0;
-  uint64_t nonFiniteSamples = 0;  // NaN or infinite samples dropped
-  uint64_t rejectedSamples = 0;   // traced but removed as outliers
-  PhaseTimes times;
-  uint64_t trainingFlops = 0;        // multiply-add flops spent in network training
-  double trainingKernelSeconds = 0;  // time inside the training kernel alone
-  double seconds = 0;                // wall time since the method started
-  std::string method;
-};
 
 // Why one pixel got its samples: what the pixel inspector shows. Positions are offsets
 // inside the pixel in [0,1)^2 (x right, y down); values are tone-mapped luminances v.
@@ -78,20 +38,16 @@ struct InspectedSlice {
   float meanValue = 0;
   float fDivergence = 0;  // eq. 15
 };
-struct PixelInspection {
-  bool valid = false;
-  int x = -1, y = -1;
-  int round = 0;  // rounds completed when it was taken
-  std::string method;
-  vec3 estimate{0.0f};                // the pixel's raw estimate, linear
-  vec3 meanMapped{0.0f};              // I (eq. 12), tone-mapped
-  vec3 prediction{0.0f};              // I', tone-mapped (BP)
-  float bias = 0, networkError = 0;   // BP
-  float psi = 0, errorThreshold = 0;  // the thresholds bias and er were compared with
-  uint32_t kept = 0, traced = 0;
-  uint32_t addedLastRound = 0;  // kept samples the last round added
-  int rank = -1;                // place in the last round's ranking, from 0; -1: none
-  size_t rankedPixels = 0;      // how many pixels that ranking held
+// A value a method explains a pixel with: one line of the inspector, formatted by the method.
+struct InspectedValue {
+  MapId map = MapId::None;    // the map the value is this pixel's entry of, if any
+  std::string label;          // what it is: "bias", "er", "mean I", the score's name
+  std::vector<float> values;  // the number(s): one, or an RGB triple
+  std::string line;           // what the inspector shows, e.g. "bias 0.412 > psi 0.050"
+};
+// The samples inside the pixel, for a method that places them in slices (BP): what the
+// inspector draws of the pixel.
+struct SubpixelInspection {
   int slicesPerSide = 1;
   int sliceB = -1, sliceC = -1;
   bool warped = false;
@@ -99,7 +55,37 @@ struct PixelInspection {
   std::vector<InspectedSlice> slices;
   std::vector<InspectedSample> samples;        // the stored samples (at most the reservoir)
   std::vector<InspectedCandidate> candidates;  // last round's, for this pixel
+};
+struct PixelInspection {
+  bool valid = false;
+  int x = -1, y = -1;
+  int round = 0;  // rounds completed when it was taken
+  std::string method;
+  vec3 estimate{0.0f};  // the pixel's raw estimate, linear
+  uint32_t kept = 0, traced = 0;
+  uint32_t addedLastRound = 0;         // kept samples the last round added
+  int rank = -1;                       // place in the last round's ranking, from 0; -1: none
+  size_t rankedPixels = 0;             // how many pixels that ranking held
+  std::vector<InspectedValue> values;  // the method's own, in the order it shows them
+  std::optional<SubpixelInspection> subpixel;  // BP: slices, samples and candidates
   std::string reason;                          // one line: why the pixel was (or was not) sampled
+
+  // The first value of map `id` (or labelled `label`), or nullptr.
+  const InspectedValue* value(MapId id) const {
+    for (const InspectedValue& v : values)
+      if (v.map == id && id != MapId::None) return &v;
+    return nullptr;
+  }
+  const InspectedValue* value(std::string_view label) const {
+    for (const InspectedValue& v : values)
+      if (v.label == label) return &v;
+    return nullptr;
+  }
+  InspectedValue& addValue(std::string label, std::vector<float> numbers, std::string line,
+                           MapId map = MapId::None) {
+    return values.emplace_back(
+        InspectedValue{map, std::move(label), std::move(numbers), std::move(line)});
+  }
 };
 
 class ProgressiveMethod {

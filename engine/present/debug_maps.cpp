@@ -215,7 +215,26 @@ int legendScale(int stripWidth) { return std::clamp(stripWidth / 640, 1, 4); }
 
 int clampToInt(int64_t v) { return int(std::clamp<int64_t>(v, INT_MIN, INT_MAX)); }
 
-void drawContinuousStrip(Image& image, int top, int scale, const MapLegend& legend) {
+vec3 divergingLinear(float t) {
+  const vec3 srgb = colormapDiverging(t);
+  return vec3(srgbToLinear(srgb.x), srgbToLinear(srgb.y), srgbToLinear(srgb.z));
+}
+
+// The colour of t in [0, 1] on a Sequential or Diverging map's bar.
+vec3 rampColor(ColorMapKind kind, float t) {
+  return kind == ColorMapKind::Diverging ? divergingLinear(t) : viridisLinear(t);
+}
+
+// The strip of a map without a scale (Rgb): its title alone.
+void drawTitleStrip(Image& image, int top, int scale, const std::string& fullTitle) {
+  const int s = scale;
+  const std::string title = fitText(fullTitle, image.width - 2 * kPad * s, s);
+  if (!title.empty())
+    drawText(image, kPad * s, top + (kStripHeight - kGlyphHeight) / 2 * s, title, textColor(), s);
+}
+
+void drawContinuousStrip(Image& image, int top, int scale, const std::string& fullTitle,
+                         const MapLegend& legend) {
   const int s = scale, width = image.width;
   const std::string low = formatValue(legend.minValue);
   const std::string middle = formatValue((double(legend.minValue) + legend.maxValue) / 2.0);
@@ -226,7 +245,7 @@ void drawContinuousStrip(Image& image, int top, int scale, const MapLegend& lege
   // to the bar's ends; the title gives way (is shortened) before the bar does.
   const int minBar =
       std::max(kMinBarLength * s, 2 * std::max(lowWidth, highWidth) + middleWidth + 8 * s);
-  const std::string title = fitText(legend.title, width - 2 * kPad * s - kTitleGap * s - minBar, s);
+  const std::string title = fitText(fullTitle, width - 2 * kPad * s - kTitleGap * s - minBar, s);
   if (!title.empty()) drawText(image, kPad * s, top + kTitleTop * s, title, textColor(), s);
 
   const int barStart = kPad * s + (title.empty() ? 0 : textWidth(title, s) + kTitleGap * s);
@@ -234,7 +253,7 @@ void drawContinuousStrip(Image& image, int top, int scale, const MapLegend& lege
   const int barLength = std::max(barEnd - barStart, 1);
   for (int x = barStart; x <= barEnd; ++x)
     fillRect(image, x, top + kBarTop * s, 1, kBarHeight * s,
-             viridisLinear(float(x - barStart) / float(barLength)));
+             rampColor(legend.kind, float(x - barStart) / float(barLength)));
 
   const int barMiddle = barStart + barLength / 2;
   const int tickTop = top + (kBarTop + kBarHeight) * s;
@@ -381,18 +400,28 @@ int drawText(Image& image, int x, int y, const std::string& text, vec3 color, in
 
 namespace {
 
-void requireMapSize(std::span<const float> values, int width, int height, const MapLegend& legend) {
-  if (width < 0 || height < 0 || values.size() != size_t(width) * size_t(height))
-    throw std::invalid_argument("debug map '" + legend.title +
-                                "': " + std::to_string(values.size()) + " values for a " +
-                                std::to_string(width) + "x" + std::to_string(height) + " map");
+size_t channelsOf(const MapLegend& legend) { return legend.kind == ColorMapKind::Rgb ? 3 : 1; }
+
+void requireMapSize(std::span<const float> values, int width, int height, const MapLegend& legend,
+                    const std::string& title) {
+  if (width < 0 || height < 0 ||
+      values.size() != size_t(width) * size_t(height) * channelsOf(legend))
+    throw std::invalid_argument("debug map '" + title + "': " + std::to_string(values.size()) +
+                                " values for a " + std::to_string(width) + "x" +
+                                std::to_string(height) + " map");
 }
 
 // Per-pixel colours and the legend items (categorical maps) of a map.
 std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend& legend,
                                  std::vector<LegendItem>* items) {
+  if (legend.kind == ColorMapKind::Rgb) {
+    std::vector<vec3> colors(values.size() / 3);
+    for (size_t i = 0; i < colors.size(); ++i)
+      colors[i] = vec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+    return colors;
+  }
   std::vector<vec3> colors(values.size());
-  if (legend.style == MapStyle::Continuous) {
+  if (legend.kind != ColorMapKind::Categorical) {
     const float span = legend.maxValue - legend.minValue;
     for (size_t i = 0; i < values.size(); ++i) {
       const float v = values[i];
@@ -402,11 +431,11 @@ std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend&
       }
       // colormapViridis clamps t to [0,1]; a zero span would divide 0 by 0.
       const float t = span != 0.0f ? (v - legend.minValue) / span : (v > legend.minValue ? 1 : 0);
-      colors[i] = viridisLinear(t);
+      colors[i] = rampColor(legend.kind, t);
     }
     return colors;
   }
-  const int labelled = int(std::min<size_t>(legend.labels.size(), INT_MAX));
+  const int labelled = int(std::min<size_t>(legend.categories.size(), INT_MAX));
   bool anyNone = false;
   std::set<int> unlabelled;
   for (size_t i = 0; i < values.size(); ++i) {
@@ -422,7 +451,7 @@ std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend&
   if (!items) return colors;
   const int count = std::max(labelled, unlabelled.empty() ? 0 : *unlabelled.rbegin() + 1);
   for (int i = 0; i < labelled; ++i)
-    items->push_back({true, categoryColor(i, count), legend.labels[size_t(i)]});
+    items->push_back({true, categoryColor(i, count), legend.categories[size_t(i)]});
   size_t shown = 0;
   for (int category : unlabelled) {
     if (shown++ == kMaxUnlabelledSwatches) break;
@@ -439,16 +468,26 @@ std::vector<vec3> colorsAndItems(std::span<const float> values, const MapLegend&
 
 }  // namespace
 
+vec3 colormapDiverging(float t) {
+  // Moreland's cool-warm end points around a light grey, interpolated in sRGB.
+  static const vec3 kLow(59 / 255.0f, 76 / 255.0f, 192 / 255.0f);
+  static const vec3 kMiddle(221 / 255.0f, 221 / 255.0f, 221 / 255.0f);
+  static const vec3 kHigh(180 / 255.0f, 4 / 255.0f, 38 / 255.0f);
+  const float u = std::clamp(std::isnan(t) ? 0.5f : t, 0.0f, 1.0f);
+  return u < 0.5f ? kLow + (kMiddle - kLow) * (2.0f * u)
+                  : kMiddle + (kHigh - kMiddle) * (2.0f * u - 1.0f);
+}
+
 Image mapColors(std::span<const float> values, int width, int height, const MapLegend& legend) {
-  requireMapSize(values, width, height, legend);
+  requireMapSize(values, width, height, legend, "");
   Image image(width, height);
   image.pixels = colorsAndItems(values, legend, nullptr);
   return image;
 }
 
 Image drawMapWithLegend(std::span<const float> values, int width, int height,
-                        const MapLegend& legend) {
-  requireMapSize(values, width, height, legend);
+                        const std::string& title, const MapLegend& legend) {
+  requireMapSize(values, width, height, legend, title);
   const int stripWidth = std::max(width, kMinStripWidth);
   const int s = legendScale(stripWidth);
   std::vector<LegendItem> items;
@@ -456,32 +495,38 @@ Image drawMapWithLegend(std::span<const float> values, int width, int height,
 
   ItemLayout layout;
   int stripHeight = kStripHeight * s;
-  if (legend.style == MapStyle::Categorical) {
-    layout = layoutItems(items, legend.title, stripWidth, s);
+  if (legend.kind == ColorMapKind::Categorical) {
+    layout = layoutItems(items, title, stripWidth, s);
     stripHeight = categoricalStripHeight(layout.rows) * s;
   }
   Image image(stripWidth, height + stripHeight, backgroundColor());
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) image.at(x, y) = colors[size_t(y) * width + x];
-  if (legend.style == MapStyle::Continuous)
-    drawContinuousStrip(image, height, s, legend);
-  else
+  if (legend.kind == ColorMapKind::Categorical)
     drawCategoricalStrip(image, height, s, items, layout);
+  else if (legend.kind == ColorMapKind::Rgb)
+    drawTitleStrip(image, height, s, title);
+  else
+    drawContinuousStrip(image, height, s, title, legend);
   return image;
 }
 
 void writeDebugMap(const std::string& dir, const std::string& name, std::span<const float> values,
-                   int width, int height, const MapLegend& legend) {
-  // Drawing first validates the size before anything touches the disk.
-  const Image picture = drawMapWithLegend(values, width, height, legend);
+                   int width, int height, const std::string& title, const MapLegend& legend) {
+  // Drawing first validates the size before anything touches the disk. An Rgb map is its
+  // own picture.
+  const bool rgb = legend.kind == ColorMapKind::Rgb;
+  const Image picture = rgb ? mapColors(values, width, height, legend)
+                            : drawMapWithLegend(values, width, height, title, legend);
   if (name.empty()) throw ImageIoError(dir + ": empty debug map name");
   if (!dir.empty()) {
     std::error_code error;
     fs::create_directories(dir, error);
     if (error) throw ImageIoError(dir + ": cannot create directory: " + error.message());
   }
-  Image raw(width, height);
-  for (size_t i = 0; i < values.size(); ++i) raw.pixels[i] = vec3(values[i]);
+  Image raw = rgb ? picture : Image(width, height);
+  if (!rgb)
+    for (size_t i = 0; i < values.size(); ++i) raw.pixels[i] = vec3(values[i]);
   const std::string base = (fs::path(dir) / name).string();
   writeImage(base + ".exr", raw);
   writeImage(base + ".png", picture);

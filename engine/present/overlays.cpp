@@ -3,7 +3,6 @@
 #include "core/stats.h"
 
 #include "eval/metrics.h"
-#include "present/snapshot_io.h"
 
 #include <algorithm>
 #include <array>
@@ -13,36 +12,6 @@
 namespace penumbra {
 
 namespace {
-
-constexpr std::array<OverlayInfo, 7> kOverlays = {{
-    {Overlay::Bias, "bias", "Bias (error estimate)"},
-    {Overlay::Selected, "selected", "Selected pixels and slices"},
-    {Overlay::FilterScale, "alpha", "Filter scale (alpha)"},
-    {Overlay::SampleCount, "samples", "Kept samples"},
-    {Overlay::TracedCount, "traced", "Traced samples"},
-    {Overlay::NetworkError, "network_error", "Network error er"},
-    {Overlay::ReferenceError, "reference_error", "Error vs reference"},
-}};
-
-// The snapshot map behind each overlay (snapshotMaps' names).
-const char* mapNameOf(Overlay overlay) {
-  switch (overlay) {
-    case Overlay::Bias:
-      return "bias";
-    case Overlay::Selected:
-      return "selected";
-    case Overlay::FilterScale:
-      return "alpha";
-    case Overlay::SampleCount:
-      return "samples";
-    case Overlay::TracedCount:
-      return "traced";
-    case Overlay::NetworkError:
-      return "network_error";
-    default:
-      return "";
-  }
-}
 
 float displayChannel(float linear, const DisplaySettings& s, float scale) {
   if (std::isnan(linear)) return 0.0f;
@@ -66,56 +35,76 @@ vec3 displayTransform(vec3 linear, const DisplaySettings& settings) {
           displayChannel(linear.z, settings, scale)};
 }
 
-std::span<const OverlayInfo> overlayList() { return kOverlays; }
+std::span<const MapInfo> overlayList() {
+  const std::span<const MapInfo> all = mapTable();
+  size_t n = 0;
+  while (n < all.size() && all[n].key > 0) ++n;  // the overlays come first
+  return all.first(n);
+}
 
-std::optional<Overlay> overlayByName(std::string_view name) {
-  if (name == "none") return Overlay::None;
-  for (const OverlayInfo& o : kOverlays)
-    if (name == o.name) return o.overlay;
+std::optional<MapId> overlayByName(std::string_view name) {
+  if (name == "none") return MapId::None;
+  for (const MapInfo& o : overlayList())
+    if (name == o.name || (o.alias && name == o.alias)) return o.id;
   return std::nullopt;
 }
 
-const char* overlayName(Overlay overlay) {
-  for (const OverlayInfo& o : kOverlays)
-    if (o.overlay == overlay) return o.name;
-  return "none";
+const char* overlayName(MapId overlay) { return mapName(overlay); }
+
+std::string overlayNames() {
+  std::string names = "none";
+  for (const MapInfo& o : overlayList()) {
+    names += std::string(", ") + o.name;
+    if (o.alias) names += std::string(" (or ") + o.alias + ")";
+  }
+  return names;
 }
 
-OverlayImage buildOverlay(const Snapshot& snapshot, Overlay overlay, const Image& shown,
-                          const Image* reference, const std::vector<float>& alphas) {
+namespace {
+
+// The relative squared error of `shown` against `reference`, into `out`; false (with the
+// reason in out.unavailable) when there is no reference or the sizes differ.
+bool referenceError(const Image& shown, const Image* reference, int w, int h, OverlayImage& out) {
+  if (!reference) {
+    out.unavailable = "no reference image (--reference FILE)";
+    return false;
+  }
+  if (reference->width != shown.width || reference->height != shown.height || shown.width != w ||
+      shown.height != h) {
+    out.unavailable = "the reference is " + std::to_string(reference->width) + "x" +
+                      std::to_string(reference->height) + ", the image " + std::to_string(w) + "x" +
+                      std::to_string(h);
+    return false;
+  }
+  double maxValue = 0.0;
+  const Image error = errorImage(shown, *reference, maxValue);
+  out.values.resize(error.pixels.size());
+  for (size_t i = 0; i < error.pixels.size(); ++i) out.values[i] = error.pixels[i].x;
+  // The 99th percentile keeps a few fireflies from turning the rest of the map dark.
+  const float top = std::max(1e-6f, lowerQuantile(out.values, 0.99).value_or(0.0f));
+  out.label = "relative squared error";
+  out.legend = MapLegend::sequential(0.0f, top);
+  return true;
+}
+
+}  // namespace
+
+OverlayImage buildOverlay(const Snapshot& snapshot, MapId overlay, const Image& shown,
+                          const Image* reference) {
   OverlayImage out;
   out.overlay = overlay;
-  if (overlay == Overlay::None) return out;
+  if (overlay == MapId::None) return out;
   const int w = snapshot.width, h = snapshot.height;
-  if (overlay == Overlay::ReferenceError) {
-    if (!reference) {
-      out.unavailable = "no reference image (--reference FILE)";
-      return out;
-    }
-    if (reference->width != shown.width || reference->height != shown.height || shown.width != w ||
-        shown.height != h) {
-      out.unavailable = "the reference is " + std::to_string(reference->width) + "x" +
-                        std::to_string(reference->height) + ", the image " + std::to_string(w) +
-                        "x" + std::to_string(h);
-      return out;
-    }
-    double maxValue = 0.0;
-    const Image error = errorImage(shown, *reference, maxValue);
-    out.values.resize(error.pixels.size());
-    for (size_t i = 0; i < error.pixels.size(); ++i) out.values[i] = error.pixels[i].x;
-    // The 99th percentile keeps a few fireflies from turning the rest of the map dark.
-    const float top = std::max(1e-6f, lowerQuantile(out.values, 0.99).value_or(0.0f));
-    out.legend = {"relative squared error", MapStyle::Continuous, 0.0f, top, {}};
+  if (overlay == MapId::ReferenceError) {
+    if (!referenceError(shown, reference, w, h, out)) return out;
+  } else if (const SnapshotMap* m = snapshot.map(overlay)) {
+    out.label = m->label;
+    out.values = m->values;
+    out.legend = m->legend;
   } else {
-    for (SnapshotMap& m : snapshotMaps(snapshot, alphas)) {
-      if (m.name != mapNameOf(overlay)) continue;
-      out.values = std::move(m.values);
-      out.legend = std::move(m.legend);
-    }
-    if (out.values.empty()) {
-      out.unavailable = "the " + snapshot.method + " method has no " + mapNameOf(overlay) + " map";
-      return out;
-    }
+    out.unavailable =
+        "the " + snapshot.method + " method has no " + std::string(mapName(overlay)) + " map";
+    return out;
   }
   out.colors = mapColors(out.values, w, h, out.legend);
   return out;

@@ -5,7 +5,7 @@
 // formulas; composeFrame is their reference.
 #pragma once
 
-#include "methods/progressive.h"
+#include "methods/snapshot.h"
 #include "present/debug_maps.h"
 
 #include <optional>
@@ -18,9 +18,10 @@ namespace penumbra {
 
 // ---- Display transform ---------------------------------------------------------------
 
-enum class ToneCurve {
-  Srgb,   // clamp to [0, 1], sRGB encode
-  Filmic  // a filmic shoulder (Narkowicz's fit of the ACES curve), then sRGB encode
+// The values are the shaders' too (TONE_CURVE_SRGB, TONE_CURVE_FILMIC, defined from these).
+enum class ToneCurve : int {
+  Srgb = 0,   // clamp to [0, 1], sRGB encode
+  Filmic = 1  // a filmic shoulder (Narkowicz's fit of the ACES curve), then sRGB encode
 };
 
 struct DisplaySettings {
@@ -33,32 +34,23 @@ vec3 displayTransform(vec3 linear, const DisplaySettings& settings);
 float filmicCurve(float x);
 
 // ---- Overlays ------------------------------------------------------------------------
+// An overlay is one of the snapshot's maps (MapId, methods/snapshot.h), or MapId::None; the
+// reference error is the one map computed here, from the shown image and a reference.
 
-enum class Overlay {
-  None,
-  Bias,            // the method's error estimate
-  Selected,        // pixels (and, zoomed in, slices B and C) sampled in the last round
-  FilterScale,     // alpha chosen per pixel
-  SampleCount,     // kept samples per pixel
-  TracedCount,     // traced camera samples per pixel
-  NetworkError,    // er
-  ReferenceError,  // relative squared error of the shown image against a reference
-};
-
-struct OverlayInfo {
-  Overlay overlay;
-  const char* name;   // for --overlay and file names
-  const char* label;  // for the panel
-};
-// Every overlay but None, in the order of the number keys 1, 2, ...
-std::span<const OverlayInfo> overlayList();
-std::optional<Overlay> overlayByName(std::string_view name);
-const char* overlayName(Overlay overlay);  // "none" for None
+// The maps the viewer offers as overlays (the rows of mapTable() with a key), in the order
+// of the number keys 1, 2, ...
+std::span<const MapInfo> overlayList();
+// An overlay by its name or alias ("slices", "filter-scale"); "none" gives MapId::None.
+std::optional<MapId> overlayByName(std::string_view name);
+const char* overlayName(MapId overlay);  // "none" for None
+// The names --overlay accepts, for messages: "none, bias, selected (or slices), ...".
+std::string overlayNames();
 
 struct OverlayImage {
-  Overlay overlay = Overlay::None;
-  Image colors;      // per pixel, linear RGB; empty when unavailable
-  MapLegend legend;  // what the colours mean
+  MapId overlay = MapId::None;
+  std::string label;  // the map's label: the legend's title
+  Image colors;       // per pixel, linear RGB; empty when unavailable
+  MapLegend legend;   // what the colours mean
   std::vector<float> values;
   std::string unavailable;  // why there is no such map (empty when there is)
   bool available() const { return !colors.empty(); }
@@ -66,9 +58,8 @@ struct OverlayImage {
 
 // The overlay's colours and legend for `snapshot`. `shown` is the image on screen (raw or
 // reconstructed), which the reference error compares with `reference` (null: none given).
-// `alphas` labels the filter scales.
-OverlayImage buildOverlay(const Snapshot& snapshot, Overlay overlay, const Image& shown,
-                          const Image* reference, const std::vector<float>& alphas);
+OverlayImage buildOverlay(const Snapshot& snapshot, MapId overlay, const Image& shown,
+                          const Image* reference);
 
 // The overlay blended over a display-encoded image colour: mix in display space with weight
 // `blend` in [0, 1], the overlay colour sRGB encoded first.

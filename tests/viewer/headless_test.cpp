@@ -14,6 +14,8 @@
 #include "present/overlays.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
+#include "viewer/app/gl/display_renderer.h"
+#include "viewer/app/gl/shader.h"
 
 #include <gtest/gtest.h>
 
@@ -45,7 +47,7 @@ std::shared_ptr<const Image> reference() {
   return image;
 }
 
-ViewOptions options(Overlay overlay) {
+ViewOptions options(MapId overlay) {
   ViewOptions o;
   o.scene = tire();
   o.method = MethodKind::Bp;
@@ -126,7 +128,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
   EXPECT_EQ(frame.snapshot->round, kRounds);
   EXPECT_EQ(frame.width, kSize);
   // Overlays draw their legend under the image.
-  if (*overlay == Overlay::None)
+  if (*overlay == MapId::None)
     EXPECT_EQ(frame.height, kSize);
   else
     EXPECT_GT(frame.height, kSize);
@@ -135,7 +137,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
 
 std::vector<std::string> overlayNames() {
   std::vector<std::string> names = {"none"};
-  for (const OverlayInfo& o : overlayList()) names.push_back(o.name);
+  for (const MapInfo& o : overlayList()) names.push_back(o.name);
   return names;
 }
 
@@ -146,16 +148,44 @@ INSTANTIATE_TEST_SUITE_P(Backends, Screenshot,
                            return std::get<0>(info.param) + "_" + std::get<1>(info.param);
                          });
 
+// The names users were promised show the same overlays as the names of before.
+TEST(HeadlessGl, OverlayAliasesShowTheirOverlays) {
+  for (const auto& [alias, name] : {std::pair{"slices", "selected"}, {"filter-scale", "alpha"}}) {
+    const auto overlay = overlayByName(alias);
+    ASSERT_TRUE(overlay.has_value()) << alias;
+    HeadlessRequest request;
+    request.rounds = kRounds;
+    const HeadlessFrame frame = renderHeadless(options(*overlay), request);
+    expectMatchesGolden(frame, name, std::string("egl_") + alias);
+  }
+}
+
+// The shaders get the C++ enums' values as #defines after their #version line; the line
+// numbers of the compiler's messages stay the file's.
+TEST(ShaderDefines, AreInjectedAfterTheVersionLine) {
+  const std::vector<ShaderDefine> defines = {{"A", "1"}, {"B", "2u"}};
+  EXPECT_EQ(injectDefines("#version 330 core\nvoid main() {}\n", defines),
+            "#version 330 core\n#define A 1\n#define B 2u\n#line 2\nvoid main() {}\n");
+  EXPECT_EQ(injectDefines("void main() {}\n", defines),
+            "#define A 1\n#define B 2u\n#line 1\nvoid main() {}\n");
+  EXPECT_EQ(injectDefines("#version 330 core\n", {}), "#version 330 core\n");
+  // The display shaders' constants come from the C++ enums.
+  bool filmic = false;
+  for (const ShaderDefine& d : displayShaderDefines())
+    if (d.name == "TONE_CURVE_FILMIC") filmic = d.value == std::to_string(int(ToneCurve::Filmic));
+  EXPECT_TRUE(filmic);
+}
+
 // The GL picture equals composeFrame (the CPU reference) to within one level of rounding.
 TEST(HeadlessGl, PictureMatchesTheCpuReference) {
   struct Variant {
-    Overlay overlay;
+    MapId overlay;
     float exposure;
     ToneCurve curve;
   };
-  for (const Variant v : {Variant{Overlay::None, 0.0f, ToneCurve::Srgb},
-                          Variant{Overlay::Bias, 1.0f, ToneCurve::Filmic},
-                          Variant{Overlay::FilterScale, -0.5f, ToneCurve::Srgb}}) {
+  for (const Variant v : {Variant{MapId::None, 0.0f, ToneCurve::Srgb},
+                          Variant{MapId::ErrorEstimate, 1.0f, ToneCurve::Filmic},
+                          Variant{MapId::FilterScale, -0.5f, ToneCurve::Srgb}}) {
     ViewOptions o = options(v.overlay);
     o.display.exposure = v.exposure;
     o.display.curve = v.curve;
@@ -166,8 +196,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
     const HeadlessFrame frame = renderHeadless(o, request);
     ASSERT_NE(frame.snapshot, nullptr);
     const Image& shown = frame.snapshot->reconstructed;
-    const OverlayImage overlay =
-        buildOverlay(*frame.snapshot, v.overlay, shown, reference().get(), o.alphas());
+    const OverlayImage overlay = buildOverlay(*frame.snapshot, v.overlay, shown, reference().get());
     const Image cpu = composeFrame(shown, display, &overlay, 0.6f);
     int worst = 0;
     for (int y = 0; y < kSize; ++y)
@@ -184,7 +213,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
 // Zoomed in, the Selected overlay outlines the slices inside each pixel; without an
 // overlay every image pixel is a flat block.
 TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
-  auto blocksWithDetail = [](Overlay overlay) {
+  auto blocksWithDetail = [](MapId overlay) {
     HeadlessRequest request;
     request.rounds = 2;
     request.width = request.height = 128;
@@ -205,8 +234,8 @@ TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
       }
     return detailed;
   };
-  EXPECT_EQ(blocksWithDetail(Overlay::None), 0);
-  EXPECT_EQ(blocksWithDetail(Overlay::Selected), 64);
+  EXPECT_EQ(blocksWithDetail(MapId::None), 0);
+  EXPECT_EQ(blocksWithDetail(MapId::Selected), 64);
 }
 
 TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
@@ -214,11 +243,11 @@ TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
   request.rounds = 2;
   request.width = 900;
   request.height = 600;
-  const HeadlessFrame plain = renderHeadless(options(Overlay::None), request);
+  const HeadlessFrame plain = renderHeadless(options(MapId::None), request);
   request.withUi = true;
   request.inspectX = 30;
   request.inspectY = 40;
-  const HeadlessFrame ui = renderHeadless(options(Overlay::None), request);
+  const HeadlessFrame ui = renderHeadless(options(MapId::None), request);
   ASSERT_EQ(plain.rgb.size(), ui.rgb.size());
   // The panel (top left) and the inspector (top right) cover what was background.
   auto changed = [&](int x0, int y0, int x1, int y1) {
@@ -255,7 +284,7 @@ TEST_F(ShaderDirectory, ACompileErrorNamesTheFileAndCarriesTheLog) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(Overlay::None), request);
+    renderHeadless(options(MapId::None), request);
     FAIL() << "no error for a broken shader";
   } catch (const GlError& e) {
     const std::string message = e.what();
@@ -270,7 +299,7 @@ TEST_F(ShaderDirectory, AMissingShaderNamesTheFile) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(Overlay::None), request);
+    renderHeadless(options(MapId::None), request);
     FAIL() << "no error for a missing shader";
   } catch (const GlError& e) {
     EXPECT_NE(std::string(e.what()).find("composite.frag"), std::string::npos) << e.what();

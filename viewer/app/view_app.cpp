@@ -110,6 +110,7 @@ void ViewerApp::restart() {
     // Drawn here, on the UI thread, so the new view shows within a frame whatever the
     // render threads are doing; the method's first round replaces it.
     auto preview = std::make_shared<Snapshot>();
+    preview->source = SnapshotSource::Preview;
     preview->method = "preview";
     preview->width = view->scene.settings.width;
     preview->height = view->scene.settings.height;
@@ -142,7 +143,7 @@ bool ViewerApp::update() {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
       firstPictureTimes_.push_back(firstPreviewSeconds_);
     }
-    if (snapshot_ && options_.reference && snapshot_->method != "preview") {
+    if (snapshot_ && options_.reference && snapshot_->source != SnapshotSource::Preview) {
       const Image& shown = shownImage();
       if (shown.width == options_.reference->width && shown.height == options_.reference->height) {
         const double spp = double(snapshot_->keptSamples) /
@@ -171,13 +172,12 @@ void ViewerApp::refreshOverlay() {
   overlayImage_ = OverlayImage{};
   overlayImage_.overlay = options_.overlay;
   legendStrip_ = Image();
-  if (!snapshot_ || options_.overlay == Overlay::None) return;
+  if (!snapshot_ || options_.overlay == MapId::None) return;
   const Image& shown = shownImage();
-  overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get(),
-                               options_.alphas());
+  overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get());
   if (overlayImage_.available())
-    legendStrip_ =
-        drawMapWithLegend({}, std::max(1, width_ - panelReserve()), 0, overlayImage_.legend);
+    legendStrip_ = drawMapWithLegend({}, std::max(1, width_ - panelReserve()), 0,
+                                     overlayImage_.label, overlayImage_.legend);
 }
 
 int ViewerApp::legendBand(int width) {
@@ -200,8 +200,7 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
     renderer_->setImage(shown);
     if (overlayImage_.available()) renderer_->setOverlay(overlayImage_.colors);
     renderer_->setLegend(legendStrip_);
-    renderer_->setSlices(snapshot_->width, snapshot_->height, snapshot_->sliceB, snapshot_->sliceC,
-                         snapshot_->selected);
+    renderer_->setSlices(*snapshot_);
     texturesStale_ = false;
   }
   DisplayView view;
@@ -212,7 +211,7 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   view.overlay = overlayImage_.available();
   view.blend = options_.blend;
   view.slicesPerSide = snapshot_ ? snapshot_->slicesPerSide : 0;
-  view.slices = options_.overlay == Overlay::Selected && zoom_ >= 8.0f && view.slicesPerSide > 0;
+  view.slices = options_.overlay == MapId::Selected && zoom_ >= 8.0f && view.slicesPerSide > 0;
   view.inspectedX = inspectX_;
   view.inspectedY = inspectY_;
   view.legendHeight = legendStrip_.height;
@@ -321,7 +320,7 @@ void ViewerApp::zoomAt(float factor, double x, double y) {
   centerY_ = iy - float(y - 0.5 * height_) / zoom_;
 }
 
-void ViewerApp::setOverlay(Overlay overlay) {
+void ViewerApp::setOverlay(MapId overlay) {
   options_.overlay = overlay;
   overlayStale_ = true;
 }
@@ -343,13 +342,13 @@ void ViewerApp::keyEvent(int key, bool down, int mods) {
   if (!down) return;
   const auto list = overlayList();
   if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + int(list.size())) {
-    setOverlay(list[size_t(key - GLFW_KEY_1)].overlay);
+    setOverlay(list[size_t(key - GLFW_KEY_1)].id);
     return;
   }
   switch (key) {
     case GLFW_KEY_0:
     case GLFW_KEY_GRAVE_ACCENT:
-      setOverlay(Overlay::None);
+      setOverlay(MapId::None);
       break;
     case GLFW_KEY_R:
       options_.showRaw = !options_.showRaw;

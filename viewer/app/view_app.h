@@ -36,7 +36,7 @@ struct ViewOptions {
   bool background = false;  // render at a lower priority than the UI thread (the window)
   std::shared_ptr<const Image> reference;
   std::string referencePath;
-  Overlay overlay = Overlay::None;
+  MapId overlay = MapId::None;  // the map shown over the image
   float blend = 0.7f;
   DisplaySettings display;
   bool showRaw = false;  // the raw estimate instead of the reconstruction
@@ -87,7 +87,7 @@ class ViewerApp {
 
   // Control.
   void restart();  // with the current camera and parameters
-  void setOverlay(Overlay overlay);
+  void setOverlay(MapId overlay);
   void fitView();  // zoom 1 (or less to fit), centred
   // Zoom (screen pixels per image pixel) with image position (x, y) at the centre; x < 0
   // keeps the current centre.
@@ -111,7 +111,7 @@ class ViewerApp {
   int restarts() const { return restarts_; }
   // A round of the current view (not the preview) is the shown snapshot.
   bool roundShown() const {
-    return snapshot_ && snapshot_->method != "preview" && snapshot_->round > 0;
+    return snapshot_ && snapshot_->source == SnapshotSource::Method && snapshot_->round > 0;
   }
   // Seconds from each (re)start to its first picture.
   const std::vector<double>& firstPictureTimes() const { return firstPictureTimes_; }

@@ -114,6 +114,17 @@ bool methodParameters(ViewOptions& o) {
   return changed;
 }
 
+// The overlay's value at pixel index i (its units on hover).
+void overlayValue(const OverlayImage& ov, size_t i) {
+  if (ov.legend.kind == ColorMapKind::Rgb)
+    ImGui::Text("%s: %.4g %.4g %.4g", ov.label.c_str(), ov.values[3 * i], ov.values[3 * i + 1],
+                ov.values[3 * i + 2]);
+  else
+    ImGui::Text("%s: %.4g", ov.label.c_str(), ov.values[i]);
+  if (!ov.legend.units.empty() && ImGui::IsItemHovered())
+    ImGui::SetTooltip("%s", ov.legend.units.c_str());
+}
+
 void progress(ViewerApp& app, const Snapshot& s) {
   const double pixels = std::max(1.0, double(s.width) * s.height);
   ImGui::Text("%s  round %d  %s", s.method.c_str(), s.round, toString(app.session().state()));
@@ -234,13 +245,13 @@ void drawPanel(ViewerApp& app) {
     int current = 0;
     const auto list = overlayList();
     for (size_t i = 0; i < list.size(); ++i)
-      if (list[i].overlay == o.overlay) current = int(i) + 1;
+      if (list[i].id == o.overlay) current = int(i) + 1;
     std::string items = std::string("none") + '\0';
-    for (const OverlayInfo& info : list) items += std::string(info.label) + '\0';
+    for (const MapInfo& info : list) items += std::string(info.panelLabel) + '\0';
     if (ImGui::Combo("overlay", &current, items.c_str()))
-      app.setOverlay(current == 0 ? Overlay::None : list[size_t(current - 1)].overlay);
+      app.setOverlay(current == 0 ? MapId::None : list[size_t(current - 1)].id);
     ImGui::SliderFloat("blend", &o.blend, 0.0f, 1.0f, "%.2f");
-    if (o.overlay != Overlay::None && !app.overlayImage_.available())
+    if (o.overlay != MapId::None && !app.overlayImage_.available())
       ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", app.overlayImage_.unavailable.c_str());
     ImGui::Text("zoom %.2fx", app.zoom_);
     float ix, iy;
@@ -250,8 +261,7 @@ void drawPanel(ViewerApp& app) {
       const vec3 c = app.shownImage().at(px, py);
       ImGui::Text("pixel (%d, %d): %.4g %.4g %.4g", px, py, c.x, c.y, c.z);
       const OverlayImage& ov = app.overlayImage_;
-      if (ov.available())
-        ImGui::Text("%s: %.4g", ov.legend.title.c_str(), ov.values[size_t(py) * snap->width + px]);
+      if (ov.available()) overlayValue(ov, size_t(py) * snap->width + px);
     }
   }
   if (o.reference && ImGui::CollapsingHeader("Reference", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -271,19 +281,73 @@ void drawPanel(ViewerApp& app) {
       app.requestScreenshot(o.saveDirectory + "/" + app.screenshotField_);
   }
   if (ImGui::CollapsingHeader("Keys", app.showHelp_ ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
-    ImGui::TextUnformatted(
-        "1-7 overlays, 0 none, [ ] blend, R raw/reconstructed\n"
+    ImGui::Text(
+        "1-%zu overlays, 0 none, [ ] blend, R raw/reconstructed\n"
         "-/= exposure, T tone curve, F fit, scroll zoom\n"
         "middle or shift+left drag: pan the image\n"
         "left drag: orbit, right drag: pan the camera\n"
         "ctrl+scroll: dolly, WASD QE: fly\n"
         "click: inspect a pixel, I inspector, Tab panel\n"
         "space pause/resume, N one round, P screenshot\n"
-        "ctrl+S save image, Esc quit");
+        "ctrl+S save image, Esc quit",
+        overlayList().size());
   }
   if (!app.message_.empty()) ImGui::TextWrapped("%s", app.message_.c_str());
   ImGui::End();
 }
+
+namespace {
+
+// The pixel drawn large: slices, B and C, the stored samples coloured by value (viridis),
+// last round's candidates as rings (filled: kept); then the slices' and candidates' lists.
+void drawSubpixel(const SubpixelInspection& sub) {
+  const float side = std::min(ImGui::GetContentRegionAvail().x, 300.0f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + side, origin.y + side), IM_COL32(30, 30, 34, 255));
+  const int S = std::max(1, sub.slicesPerSide);
+  const float cell = side / float(S);
+  for (int s = 0; s < S * S; ++s) {
+    const ImVec2 a(origin.x + (s % S) * cell, origin.y + (s / S) * cell);
+    const ImVec2 b(a.x + cell, a.y + cell);
+    if (s == sub.sliceB) draw->AddRectFilled(a, b, IM_COL32(64, 140, 255, 70));
+    if (s == sub.sliceC) draw->AddRectFilled(a, b, IM_COL32(255, 140, 25, 70));
+    draw->AddRect(a, b, IM_COL32(150, 150, 150, 255));
+    char label[48];
+    const bool hasStats = size_t(s) < sub.slices.size();
+    std::snprintf(label, sizeof label, "%s%d n=%u",
+                  s == sub.sliceB   ? "B "
+                  : s == sub.sliceC ? "C "
+                                    : "",
+                  s, hasStats ? sub.slices[size_t(s)].count : 0u);
+    draw->AddText(ImVec2(a.x + 3, a.y + 2), IM_COL32(220, 220, 220, 255), label);
+  }
+  auto at = [&](float ox, float oy) { return ImVec2(origin.x + ox * side, origin.y + oy * side); };
+  for (const InspectedSample& s : sub.samples)
+    draw->AddCircleFilled(at(s.ox, s.oy), 4.0f, toU32(colormapViridis(s.value)));
+  for (const InspectedCandidate& c : sub.candidates) {
+    const ImU32 color = toU32(colormapViridis(c.value));
+    draw->AddCircle(at(c.ox, c.oy), 7.0f, c.kept ? IM_COL32(255, 255, 255, 255) : color, 0,
+                    c.kept ? 2.5f : 1.5f);
+  }
+  ImGui::Dummy(ImVec2(side, side));
+  ImGui::Text("%zu samples, %zu candidates last round", sub.samples.size(), sub.candidates.size());
+  if (ImGui::TreeNode("slices")) {
+    for (size_t s = 0; s < sub.slices.size(); ++s)
+      ImGui::Text("%zu: n %u, mean v %.3f, eq. 15 %.4f", s, sub.slices[s].count,
+                  sub.slices[s].meanValue, sub.slices[s].fDivergence);
+    ImGui::TreePop();
+  }
+  if (!sub.candidates.empty() && ImGui::TreeNode("candidates (eq. 16)")) {
+    for (const InspectedCandidate& c : sub.candidates)
+      ImGui::Text("slice %d%s v %.3f score %.3f%s", c.slice,
+                  c.mirroredFrom >= 0 ? " (mirrored)" : "", c.value, c.score,
+                  c.kept ? "  kept" : "");
+    ImGui::TreePop();
+  }
+}
+
+}  // namespace
 
 void drawInspector(ViewerApp& app) {
   ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 330, 8), ImGuiCond_FirstUseEver);
@@ -305,83 +369,13 @@ void drawInspector(ViewerApp& app) {
   ImGui::TextWrapped("%s", in->reason.c_str());
   ImGui::Text("kept %u, traced %u, +%u last round", in->kept, in->traced, in->addedLastRound);
   ImGui::Text("estimate %.4g %.4g %.4g", in->estimate.x, in->estimate.y, in->estimate.z);
-  if (in->method == "bp") {
-    ImGui::Text("mean I   %.3f %.3f %.3f (tone-mapped)", in->meanMapped.x, in->meanMapped.y,
-                in->meanMapped.z);
-    ImGui::Text("net  I'  %.3f %.3f %.3f", in->prediction.x, in->prediction.y, in->prediction.z);
-    ImGui::Text("bias %.3f %s psi %.3f", in->bias, in->bias > in->psi ? ">" : "<=", in->psi);
-    ImGui::Text("er   %.3f %s e %.3f", in->networkError,
-                in->networkError > in->errorThreshold ? ">" : "<=", in->errorThreshold);
-    const auto snap = app.snapshot_;
-    if (snap && !snap->alphaIndex.empty()) {
-      const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
-      const auto& alphas = app.options_.alphas();
-      ImGui::Text("filter alpha %g (index %d)", a < alphas.size() ? alphas[a] : -1.0f, int(a) + 1);
-    }
-    if (in->sliceB >= 0)
-      ImGui::Text("B = slice %d, C = slice %d, eq. 14 %.3f, %s", in->sliceB, in->sliceC,
-                  in->contrast, in->warped ? "B's sample warped into C" : "no warping");
-  } else if (in->method != "ld") {
-    const auto snap = app.snapshot_;
-    ImGui::Text("%s %.4g", snap ? snap->biasLabel.c_str() : "score", in->bias);
-    if (in->rank >= 0)
-      ImGui::Text("rank %d; the last round sampled the top %zu", in->rank + 1, in->rankedPixels);
-    if (snap && !snap->alphaIndex.empty() && !snap->filterScaleLabels.empty()) {
-      const uint8_t a = snap->alphaIndex[size_t(in->y) * snap->width + in->x];
-      ImGui::Text("filter scale %s",
-                  a < snap->filterScaleLabels.size() ? snap->filterScaleLabels[a].c_str() : "?");
-    }
-  }
-  if (in->samples.empty() && in->candidates.empty()) {  // the baselines store no samples
-    ImGui::End();
+  // The method's own values, one line each, as it formatted them.
+  for (const InspectedValue& v : in->values) ImGui::TextUnformatted(v.line.c_str());
+  if (!in->subpixel || (in->subpixel->samples.empty() && in->subpixel->candidates.empty())) {
+    ImGui::End();  // the baselines store no samples
     return;
   }
-  // The pixel drawn large: slices, B and C, the stored samples coloured by value (viridis),
-  // last round's candidates as rings (filled: kept).
-  const float side = std::min(ImGui::GetContentRegionAvail().x, 300.0f);
-  const ImVec2 origin = ImGui::GetCursorScreenPos();
-  ImDrawList* draw = ImGui::GetWindowDrawList();
-  draw->AddRectFilled(origin, ImVec2(origin.x + side, origin.y + side), IM_COL32(30, 30, 34, 255));
-  const int S = std::max(1, in->slicesPerSide);
-  const float cell = side / float(S);
-  for (int s = 0; s < S * S; ++s) {
-    const ImVec2 a(origin.x + (s % S) * cell, origin.y + (s / S) * cell);
-    const ImVec2 b(a.x + cell, a.y + cell);
-    if (s == in->sliceB) draw->AddRectFilled(a, b, IM_COL32(64, 140, 255, 70));
-    if (s == in->sliceC) draw->AddRectFilled(a, b, IM_COL32(255, 140, 25, 70));
-    draw->AddRect(a, b, IM_COL32(150, 150, 150, 255));
-    char label[48];
-    const bool hasStats = size_t(s) < in->slices.size();
-    std::snprintf(label, sizeof label, "%s%d n=%u",
-                  s == in->sliceB   ? "B "
-                  : s == in->sliceC ? "C "
-                                    : "",
-                  s, hasStats ? in->slices[size_t(s)].count : 0u);
-    draw->AddText(ImVec2(a.x + 3, a.y + 2), IM_COL32(220, 220, 220, 255), label);
-  }
-  auto at = [&](float ox, float oy) { return ImVec2(origin.x + ox * side, origin.y + oy * side); };
-  for (const InspectedSample& s : in->samples)
-    draw->AddCircleFilled(at(s.ox, s.oy), 4.0f, toU32(colormapViridis(s.value)));
-  for (const InspectedCandidate& c : in->candidates) {
-    const ImU32 color = toU32(colormapViridis(c.value));
-    draw->AddCircle(at(c.ox, c.oy), 7.0f, c.kept ? IM_COL32(255, 255, 255, 255) : color, 0,
-                    c.kept ? 2.5f : 1.5f);
-  }
-  ImGui::Dummy(ImVec2(side, side));
-  ImGui::Text("%zu samples, %zu candidates last round", in->samples.size(), in->candidates.size());
-  if (ImGui::TreeNode("slices")) {
-    for (size_t s = 0; s < in->slices.size(); ++s)
-      ImGui::Text("%zu: n %u, mean v %.3f, eq. 15 %.4f", s, in->slices[s].count,
-                  in->slices[s].meanValue, in->slices[s].fDivergence);
-    ImGui::TreePop();
-  }
-  if (!in->candidates.empty() && ImGui::TreeNode("candidates (eq. 16)")) {
-    for (const InspectedCandidate& c : in->candidates)
-      ImGui::Text("slice %d%s v %.3f score %.3f%s", c.slice,
-                  c.mirroredFrom >= 0 ? " (mirrored)" : "", c.value, c.score,
-                  c.kept ? "  kept" : "");
-    ImGui::TreePop();
-  }
+  drawSubpixel(*in->subpixel);
   ImGui::End();
 }
 

@@ -299,19 +299,10 @@ void run(CompareFlags flags) {
       std::fflush(stdout);
       if (s == 0) {
         result.image = image;
-        result.density.assign(snap->keptCount.begin(), snap->keptCount.end());
-        result.errorEstimate = snap->bias;
-        result.errorEstimateName = snap->biasLabel;
-        if (!useRaw && !snap->alphaIndex.empty()) {
-          result.filterScale.assign(snap->alphaIndex.begin(), snap->alphaIndex.end());
-          result.filterScaleLabels = snap->filterScaleLabels;
-          if (result.filterScaleLabels.empty())
-            for (float a : (bp ? bp->filter : FilterConfig{}).alphas) {
-              char label[24];
-              std::snprintf(label, sizeof label, "a=%g", double(a));
-              result.filterScaleLabels.push_back(label);
-            }
-        }
+        // The maps as the method published them; a raw image was not filtered, so its
+        // filter-scale map does not describe it.
+        for (const SnapshotMap& map : snap->maps)
+          if (!(useRaw && map.id == MapId::FilterScale)) result.maps.push_back(map);
       }
     }
     r.methods.push_back(std::move(result));

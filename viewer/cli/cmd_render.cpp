@@ -190,16 +190,21 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
     j["training_simd"] = networkSimdName();
     // ALGORITHM.md §5 and §9.5: the spread of bias decides how selective sampling and
     // filtering are, so both histograms are part of every run's record.
-    j["bias_histogram"] = {{"bin_width", 0.05}, {"counts", histogram(snap.bias, 20, 1.0f)}};
+    const SnapshotMap* bias = snap.map(MapId::ErrorEstimate);
+    j["bias_histogram"] = {
+        {"bin_width", 0.05},
+        {"counts", histogram(bias ? bias->values : std::vector<float>{}, 20, 1.0f)}};
     std::vector<uint64_t> alphaCounts(bp->filter.alphas.size(), 0);
-    for (uint8_t a : snap.alphaIndex)
-      if (a < alphaCounts.size()) ++alphaCounts[a];
+    if (const SnapshotMap* alpha = snap.map(MapId::FilterScale))
+      for (float a : alpha->values)
+        if (a >= 0 && size_t(a) < alphaCounts.size()) ++alphaCounts[size_t(a)];
     j["alpha_histogram"] = {{"alphas", bp->filter.alphas}, {"counts", alphaCounts}};
-  } else if (!snap.alphaIndex.empty()) {
-    std::vector<uint64_t> counts(snap.filterScaleLabels.size(), 0);
-    for (uint8_t a : snap.alphaIndex)
-      if (a < counts.size()) ++counts[a];
-    j["filter_scale_histogram"] = {{"scales", snap.filterScaleLabels}, {"counts", counts}};
+  } else if (const SnapshotMap* scale = snap.map(MapId::FilterScale)) {
+    const std::vector<std::string>& labels = scale->legend.categories;
+    std::vector<uint64_t> counts(labels.size(), 0);
+    for (float a : scale->values)
+      if (a >= 0 && size_t(a) < counts.size()) ++counts[size_t(a)];
+    j["filter_scale_histogram"] = {{"scales", labels}, {"counts", counts}};
   }
   j["per_round"] = rounds;
   writeJson(path, j);
@@ -229,17 +234,21 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
     method->runRound(nullptr);
     if (wantRounds) {
       const auto snap = method->snapshot(false);
+      const SnapshotMap* selected = snap->map(MapId::Selected);
       nlohmann::json round = {
           {"round", snap->round},
           {"kept_spp", double(snap->keptSamples) / pixels},
           {"traced_spp", double(snap->tracedSamples) / pixels},
-          {"pixels_sampled", std::count(snap->selected.begin(), snap->selected.end(), uint8_t(1))},
+          {"pixels_sampled",
+           selected ? std::count(selected->values.begin(), selected->values.end(), 1.0f) : 0},
           {"seconds", snap->seconds}};
-      if (const BpConfig* bp = spec.get<BpConfig>()) {
+      const SnapshotMap* bias = snap->map(MapId::ErrorEstimate);
+      const SnapshotMap* er = snap->map(MapId::NetworkError);
+      const BpConfig* bp = spec.get<BpConfig>();
+      if (bp && bias && er) {
         size_t difficult = 0;
-        for (size_t p = 0; p < snap->bias.size(); ++p)
-          difficult +=
-              snap->bias[p] > bp->psi && snap->networkError[p] > bp->network.errorThreshold;
+        for (size_t p = 0; p < bias->values.size(); ++p)
+          difficult += bias->values[p] > bp->psi && er->values[p] > bp->network.errorThreshold;
         round["difficult_pixels"] = difficult;
       }
       rounds.push_back(round);
@@ -252,10 +261,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   // A method without a reconstruction publishes its raw estimate as the reconstruction.
   writeImage(flags.output, snap->reconstructed, flags.exposure);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
-  if (!flags.aovDir.empty()) {
-    const BpConfig* bp = spec.get<BpConfig>();
-    writeSnapshotMaps(flags.aovDir, *snap, bp ? bp->filter.alphas : BpConfig{}.filter.alphas);
-  }
+  if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap);
   if (!flags.statsPath.empty())
     writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
                           threads);

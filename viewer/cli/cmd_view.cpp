@@ -75,12 +75,9 @@ ViewOptions makeOptions(const ViewFlags& f) {
   if (const std::string problem = validate(o.spec()); !problem.empty()) throw CommandError(problem);
   o.threads = f.threads;
   const auto overlay = overlayByName(f.overlay);
-  if (!overlay) {
-    std::string names = "none";
-    for (const OverlayInfo& i : overlayList()) names += std::string(", ") + i.name;
-    throw CommandError("--overlay: unknown overlay '" + f.overlay + "' (expected one of: " + names +
-                       ")");
-  }
+  if (!overlay)
+    throw CommandError("--overlay: unknown overlay '" + f.overlay +
+                       "' (expected one of: " + overlayNames() + ")");
   o.overlay = *overlay;
   o.blend = f.blend;
   o.display.exposure = f.exposure;
@@ -420,9 +417,7 @@ void registerViewCommand(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--reference", flags->referencePath,
                 "Reference image (.exr): the error overlay and the MSE plot compare with it");
-  c->add_option("--overlay", flags->overlay,
-                "Overlay at start: none, bias, selected, alpha, samples, traced, network_error, "
-                "reference_error")
+  c->add_option("--overlay", flags->overlay, "Overlay at start: " + overlayNames())
       ->capture_default_str();
   c->add_option("--blend", flags->blend, "Overlay strength in [0, 1]")
       ->check(CLI::Range(0.0f, 1.0f))

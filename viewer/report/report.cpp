@@ -129,6 +129,20 @@ std::string hexColor(vec3 linear) {
 
 vec3 cropColor(size_t index, size_t count) { return categoryColor(int(index), int(count)); }
 
+std::span<const ReportMap> reportMaps() {
+  static constexpr std::array<ReportMap, 3> kMaps = {{
+      {MapId::SampleCount, "density", "density", "kept spp", "kept spp", "Kept samples per pixel",
+       "Shared colour bar across methods.", ReportScale::Shared},
+      {MapId::ErrorEstimate, "estimate", "error_estimate", "error estimate", nullptr,
+       "Error estimates",
+       "Each method's own per-pixel error estimate; colour bar 0 to its 99th percentile.",
+       ReportScale::OwnPercentile},
+      {MapId::FilterScale, "filter", "filter_scale", "filter scale", "filter", "Filter scale",
+       "Reconstruction filter chosen per pixel.", ReportScale::Categories},
+  }};
+  return kMaps;
+}
+
 // ---- Summary sentence ---------------------------------------------------------------------
 // "ld wins on MSE with 1.2e-03 ± 3e-05 (4 seeds); bp has 2.41× its MSE."
 std::string summarySentence(const Prepared& p) {
@@ -261,12 +275,11 @@ void requireImageSize(const Image& image, const Image& reference, const std::str
                                 std::to_string(reference.height));
 }
 
-void requireMapSize(const std::vector<float>& map, const Image& reference,
-                    const std::string& what) {
-  const size_t expected = size_t(reference.width) * reference.height;
-  if (!map.empty() && map.size() != expected)
-    throw std::invalid_argument(what + " has " + std::to_string(map.size()) + " values, the " +
-                                std::to_string(reference.width) + "x" +
+void requireMapSize(const SnapshotMap& map, const Image& reference, const std::string& what) {
+  const size_t expected = size_t(reference.width) * reference.height * map.channels();
+  if (map.values.size() != expected)
+    throw std::invalid_argument(what + " has " + std::to_string(map.values.size()) +
+                                " values, the " + std::to_string(reference.width) + "x" +
                                 std::to_string(reference.height) + " reference " +
                                 std::to_string(expected));
 }
@@ -281,9 +294,8 @@ void validate(const CompareReport& r) {
     if (!labels.insert(m.label).second)
       throw std::invalid_argument("method label '" + m.label + "' is used twice");
     requireImageSize(m.image, ref, name + " image");
-    requireMapSize(m.density, ref, name + " density map");
-    requireMapSize(m.errorEstimate, ref, name + " error estimate");
-    requireMapSize(m.filterScale, ref, name + " filter-scale map");
+    for (const SnapshotMap& map : m.maps)
+      requireMapSize(map, ref, name + " " + mapName(map.id) + " map");
   }
   for (const Crop& c : r.crops)
     if (c.w <= 0 || c.h <= 0 || c.x < 0 || c.y < 0 || c.x + c.w > ref.width ||
@@ -356,6 +368,31 @@ Png savePng(const fs::path& dir, const std::string& name, const Image& image, fl
 }
 
 // ---- Images -------------------------------------------------------------------------------
+// A method's map as the report draws it: its values with the report's colour bar or labels.
+Image reportMapPicture(const ReportMap& row, const SnapshotMap& map, int w, int h,
+                       float sharedMax) {
+  MapLegend legend;
+  std::string title = row.title ? row.title : map.label.empty() ? "error estimate" : map.label;
+  if (row.scale == ReportScale::Shared) {
+    legend.maxValue = sharedMax;
+  } else if (row.scale == ReportScale::OwnPercentile) {
+    double top = quantile(map.values, 0.99);
+    if (!(top > 0)) top = 1;
+    legend.maxValue = float(top);
+  } else {
+    legend.kind = ColorMapKind::Categorical;
+    for (const std::string& label : map.legend.categories)
+      legend.categories.push_back(asciiForBitmap(label));
+    float maxIndex = -1;
+    for (float v : map.values)
+      if (std::isfinite(v)) maxIndex = std::max(maxIndex, std::round(v));
+    // Unlabelled categories get their index (a few: a wild value must not make millions).
+    while (float(legend.categories.size()) <= std::min(maxIndex, 63.0f))
+      legend.categories.push_back(std::to_string(legend.categories.size()));
+  }
+  return drawMapWithLegend(map.values, w, h, asciiForBitmap(title), legend);
+}
+
 void writeImages(const fs::path& dir, Prepared& p) {
   const CompareReport& r = p.r;
   const int w = r.reference.width, h = r.reference.height;
@@ -372,11 +409,14 @@ void writeImages(const fs::path& dir, Prepared& p) {
   if (!(scale > 0)) scale = 1.0;                    // no error at all
   p.errorScale = float(scale);
 
-  float densityMax = 0;
-  for (const MethodResult& m : r.methods)
-    for (float v : m.density)
-      if (std::isfinite(v)) densityMax = std::max(densityMax, v);
-  if (!(densityMax > 0)) densityMax = 1;
+  // The top of each Shared colour bar: the largest value of any method.
+  std::vector<float> sharedMax(reportMaps().size(), 0.0f);
+  for (size_t k = 0; k < reportMaps().size(); ++k) {
+    for (const MethodResult& m : r.methods)
+      if (const SnapshotMap* map = findMap(m.maps, reportMaps()[k].id))
+        sharedMax[k] = std::max(sharedMax[k], finiteMax(map->values));
+    if (!(sharedMax[k] > 0)) sharedMax[k] = 1;
+  }
 
   p.reference = savePng(dir, "reference", r.reference, r.exposure);
   for (size_t m = 0; m < r.methods.size(); ++m) {
@@ -384,41 +424,16 @@ void writeImages(const fs::path& dir, Prepared& p) {
     const std::string& stem = p.stems[m];
     MethodImages out;
     out.image = savePng(dir, stem, method.image, r.exposure);
-    out.error =
-        savePng(dir, stem + "_error",
-                drawMapWithLegend(errors[m], w, h,
-                                  {"rel. sq. error", MapStyle::Continuous, 0, p.errorScale, {}}),
-                0);
-    if (!method.density.empty())
-      out.density =
-          savePng(dir, stem + "_density",
-                  drawMapWithLegend(method.density, w, h,
-                                    {"kept spp", MapStyle::Continuous, 0, densityMax, {}}),
-                  0);
-    if (!method.errorEstimate.empty()) {
-      double top = quantile(method.errorEstimate, 0.99);
-      if (!(top > 0)) top = 1;
-      const std::string title = asciiForBitmap(
-          method.errorEstimateName.empty() ? "error estimate" : method.errorEstimateName);
-      out.estimate = savePng(dir, stem + "_estimate",
-                             drawMapWithLegend(method.errorEstimate, w, h,
-                                               {title, MapStyle::Continuous, 0, float(top), {}}),
-                             0);
-    }
-    if (!method.filterScale.empty()) {
-      std::vector<std::string> labels;
-      for (const std::string& label : method.filterScaleLabels)
-        labels.push_back(asciiForBitmap(label));
-      float maxIndex = -1;
-      for (float v : method.filterScale)
-        if (std::isfinite(v)) maxIndex = std::max(maxIndex, std::round(v));
-      // Unlabelled categories get their index (a few: a wild value must not make millions).
-      while (float(labels.size()) <= std::min(maxIndex, 63.0f))
-        labels.push_back(std::to_string(labels.size()));
-      out.filter = savePng(dir, stem + "_filter",
-                           drawMapWithLegend(method.filterScale, w, h,
-                                             {"filter", MapStyle::Categorical, 0, 1, labels}),
-                           0);
+    out.error = savePng(dir, stem + "_error",
+                        drawMapWithLegend(errors[m], w, h, "rel. sq. error",
+                                          MapLegend::sequential(0.0f, p.errorScale)),
+                        0);
+    for (size_t k = 0; k < reportMaps().size(); ++k) {
+      const ReportMap& row = reportMaps()[k];
+      const SnapshotMap* map = findMap(method.maps, row.id);
+      out.maps.push_back(map ? savePng(dir, stem + "_" + row.stem,
+                                       reportMapPicture(row, *map, w, h, sharedMax[k]), 0)
+                             : Png{});
     }
     p.images.push_back(std::move(out));
   }
@@ -511,9 +526,8 @@ json resultsJson(const Prepared& p) {
     }
     const MethodImages& images = p.images[m];
     json files = {{"image", images.image.file}, {"error", images.error.file}};
-    if (!images.density.file.empty()) files["density"] = images.density.file;
-    if (!images.estimate.file.empty()) files["error_estimate"] = images.estimate.file;
-    if (!images.filter.file.empty()) files["filter_scale"] = images.filter.file;
+    for (size_t k = 0; k < reportMaps().size(); ++k)
+      if (!images.maps[k].file.empty()) files[reportMaps()[k].jsonKey] = images.maps[k].file;
     jm["images"] = files;
     j["methods"].push_back(jm);
   }
@@ -567,20 +581,21 @@ std::string reportMarkdown(const Prepared& p) {
   md += "\n| ![reference](" + p.reference.file + ") |";
   for (size_t m = 0; m < r.methods.size(); ++m)
     md += " ![" + markdownCell(r.methods[m].label) + "](" + p.images[m].image.file + ") |";
-  const auto mapRow = [&](const char* name, Png MethodImages::*which) {
+  const auto mapRow = [&](const char* name, auto which) {
     std::string row = "\n| " + std::string(name) + " |";
     bool any = false;
     for (const MethodImages& images : p.images) {
-      const Png& png = images.*which;
+      const Png& png = which(images);
       any = any || !png.file.empty();
       row += png.file.empty() ? std::string(" |")
                               : " ![" + std::string(name) + "](" + png.file + ") |";
     }
     return any ? row : std::string();
   };
-  md += mapRow("error", &MethodImages::error) + mapRow("kept spp", &MethodImages::density) +
-        mapRow("error estimate", &MethodImages::estimate) +
-        mapRow("filter scale", &MethodImages::filter);
+  md += mapRow("error", [](const MethodImages& i) -> const Png& { return i.error; });
+  for (size_t k = 0; k < reportMaps().size(); ++k)
+    md += mapRow(reportMaps()[k].rowName,
+                 [k](const MethodImages& i) -> const Png& { return i.maps[k]; });
   md += "\n\nError maps: relative squared error, colour bar 0 to " + sci(p.errorScale) +
         " (99th percentile over all methods).\n";
   if (!p.crops.empty()) {

@@ -7,6 +7,7 @@
 
 #include "core/image.h"
 #include "eval/metrics.h"
+#include "methods/snapshot.h"
 
 #include <cstdint>
 #include <string>
@@ -37,12 +38,11 @@ struct MethodResult {
   int spp = 0;                  // requested kept spp
   std::vector<MethodRun> runs;  // one per seed
   // Images of the first seed, all width*height of the report's reference:
-  Image image;                       // the method's output, linear RGB
-  std::vector<float> density;        // kept samples per pixel (empty if unknown)
-  std::vector<float> errorEstimate;  // the method's own per-pixel error ("bias"); may be empty
-  std::string errorEstimateName;     // e.g. "bias", "GEM MSE estimate"
-  std::vector<float> filterScale;    // filter scale index per pixel (< 0: none); may be empty
-  std::vector<std::string> filterScaleLabels;  // label per index (e.g. "α=0.1", "σ=0.71")
+  Image image;  // the method's output, linear RGB
+  // The method's debug maps as its snapshot published them (labelled, with their legends);
+  // the report shows its kept samples, its error estimate and its filter scale, each where
+  // the method has it (detail::reportMaps()).
+  std::vector<SnapshotMap> maps;
 };
 
 // A square region of the image, in pixels, top-left corner (x, y).

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -82,8 +83,28 @@ struct Png {
   int width = 0, height = 0;
 };
 
+// The methods' maps the report shows, one row each (report.md, report.html) and one PNG per
+// method that has the map.
+enum class ReportScale {
+  Shared,         // Sequential, one colour bar from 0 to the largest value of all methods
+  OwnPercentile,  // Sequential, each method's own colour bar from 0 to its 99th percentile
+  Categories,     // Categorical, the method's category labels
+};
+struct ReportMap {
+  MapId id;
+  const char* stem;     // images/<method>_<stem>.png
+  const char* jsonKey;  // results.json: methods[].images.<jsonKey>
+  const char* rowName;  // report.md
+  const char* title;    // the legend's title; nullptr: the map's label
+  const char* heading;  // report.html
+  const char* note;     // report.html, under the heading
+  ReportScale scale;
+};
+std::span<const ReportMap> reportMaps();
+
 struct MethodImages {
-  Png image, error, density, estimate, filter;  // empty file: not present
+  Png image, error;       // empty file: not present
+  std::vector<Png> maps;  // one per reportMaps() row
 };
 
 struct Prepared {

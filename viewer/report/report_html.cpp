@@ -167,6 +167,54 @@ std::string barChart(const Prepared& p, size_t k, const std::string& title) {
   return svg + "</svg>";
 }
 
+// The maps: one section per kind (the error, then the rows of reportMaps()), each with only
+// the methods that have it.
+std::string mapSections(const Prepared& p, const DisplayScale& scale) {
+  const CompareReport& r = p.r;
+  std::string html;
+  const auto mapRow = [&](const std::string& heading, const std::string& note, auto pngOf,
+                          const ReportMap* map) {
+    std::string row;
+    for (size_t m = 0; m < r.methods.size(); ++m) {
+      const Png& png = pngOf(p.images[m]);
+      if (png.file.empty()) continue;
+      std::string caption = "<b>" + htmlEscape(r.methods[m].label) + "</b>";
+      const SnapshotMap* values = map ? findMap(r.methods[m].maps, map->id) : nullptr;
+      if (values && map->scale == ReportScale::OwnPercentile && !values->label.empty())
+        caption += " · " + htmlEscape(values->label);
+      if (values && map->scale == ReportScale::Categories) {
+        const auto& labels = values->legend.categories;
+        caption += "<br>";
+        for (size_t i = 0; i < labels.size(); ++i)
+          caption += "<span class=\"swatch\" style=\"background:" +
+                     hexColor(categoryColor(int(i), int(labels.size()))) + "\"></span>" +
+                     htmlEscape(labels[i]);
+      }
+      // A map of a tiny render is padded to the legend's width: enlarge it less.
+      const double factor =
+          scale.pixelated ? std::min(scale.factor, std::max(1.0, std::floor(480.0 / png.width)))
+                          : scale.factor;
+      row += "<figure>" + imgTag(png, factor, scale.pixelated, heading) + "<figcaption>" + caption +
+             "</figcaption></figure>";
+    }
+    if (row.empty()) return;
+    html += "<section><h2>" + htmlEscape(heading) + "</h2>" +
+            (note.empty() ? "" : "<p class=\"note\">" + htmlEscape(note) + "</p>") +
+            "<div class=\"row\">" + row + "</div></section>\n";
+  };
+  mapRow(
+      "Per-pixel error",
+      "Relative squared error against the reference (first seed), one "
+      "shared colour bar from 0 to " +
+          sci(p.errorScale) + " (99th percentile over all methods).",
+      [](const MethodImages& i) -> const Png& { return i.error; }, nullptr);
+  for (size_t k = 0; k < reportMaps().size(); ++k)
+    mapRow(
+        reportMaps()[k].heading, reportMaps()[k].note,
+        [k](const MethodImages& i) -> const Png& { return i.maps[k]; }, &reportMaps()[k]);
+  return html;
+}
+
 }  // namespace
 
 std::string reportHtml(const Prepared& p) {
@@ -288,48 +336,7 @@ std::string reportHtml(const Prepared& p) {
     html += "</section>\n";
   }
 
-  // Maps: one row per kind, only methods that have it.
-  const auto mapRow = [&](const std::string& heading, const std::string& note,
-                          Png MethodImages::*which, bool withFilterLegend) {
-    std::string row;
-    for (size_t m = 0; m < r.methods.size(); ++m) {
-      const Png& png = p.images[m].*which;
-      if (png.file.empty()) continue;
-      std::string caption = "<b>" + htmlEscape(r.methods[m].label) + "</b>";
-      if (which == &MethodImages::estimate && !r.methods[m].errorEstimateName.empty())
-        caption += " · " + htmlEscape(r.methods[m].errorEstimateName);
-      if (withFilterLegend) {
-        const auto& labels = r.methods[m].filterScaleLabels;
-        caption += "<br>";
-        for (size_t i = 0; i < labels.size(); ++i)
-          caption += "<span class=\"swatch\" style=\"background:" +
-                     hexColor(categoryColor(int(i), int(labels.size()))) + "\"></span>" +
-                     htmlEscape(labels[i]);
-      }
-      // A map of a tiny render is padded to the legend's width: enlarge it less.
-      const double factor =
-          scale.pixelated ? std::min(scale.factor, std::max(1.0, std::floor(480.0 / png.width)))
-                          : scale.factor;
-      row += "<figure>" + imgTag(png, factor, scale.pixelated, heading) + "<figcaption>" + caption +
-             "</figcaption></figure>";
-    }
-    if (row.empty()) return;
-    html += "<section><h2>" + htmlEscape(heading) + "</h2>" +
-            (note.empty() ? "" : "<p class=\"note\">" + htmlEscape(note) + "</p>") +
-            "<div class=\"row\">" + row + "</div></section>\n";
-  };
-  mapRow("Per-pixel error",
-         "Relative squared error against the reference (first seed), one "
-         "shared colour bar from 0 to " +
-             sci(p.errorScale) + " (99th percentile over all methods).",
-         &MethodImages::error, false);
-  mapRow("Kept samples per pixel", "Shared colour bar across methods.", &MethodImages::density,
-         false);
-  mapRow("Error estimates",
-         "Each method's own per-pixel error estimate; colour bar 0 to its 99th "
-         "percentile.",
-         &MethodImages::estimate, false);
-  mapRow("Filter scale", "Reconstruction filter chosen per pixel.", &MethodImages::filter, true);
+  html += mapSections(p, scale);
 
   html +=
       "<footer>Written by penumbra compare. Beside this page: results.json, results.csv, "

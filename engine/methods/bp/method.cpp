@@ -128,35 +128,57 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
   snap->height = s_.height;
   snap->slicesPerSide = config.slicesPerSide;
   snap->raw = estimate();
-  snap->bias.resize(pixelCount);
-  snap->networkError.resize(pixelCount);
-  snap->prediction = Image(s_.width, s_.height);
-  snap->sliceB.resize(pixelCount);
-  snap->sliceC.resize(pixelCount);
-  snap->keptCount.resize(pixelCount);
-  snap->tracedCount.resize(pixelCount);
+  std::vector<float> bias(pixelCount), er(pixelCount), prediction(3 * pixelCount);
+  std::vector<float> sliceB(pixelCount), sliceC(pixelCount);
+  std::vector<uint32_t> kept(pixelCount), traced(pixelCount);
   for (size_t p = 0; p < pixelCount; ++p) {
     const PixelState& s = s_.pixel(p);
-    snap->bias[p] = s.bias;
-    snap->networkError[p] = s.er;
-    snap->prediction.pixels[p] = s.prediction;
-    snap->sliceB[p] = s.sliceB;
-    snap->sliceC[p] = s.sliceC;
-    snap->keptCount[p] = s.kept;
-    snap->tracedCount[p] = s.traced;
+    bias[p] = s.bias;
+    er[p] = s.er;
+    for (int k = 0; k < 3; ++k) prediction[3 * p + size_t(k)] = s.prediction[k];
+    sliceB[p] = s.sliceB;
+    sliceC[p] = s.sliceC;
+    kept[p] = s.kept;
+    traced[p] = s.traced;
   }
-  snap->selected = s_.selected;
-  if (!reconstructImage) {
-    snap->alphaIndex.clear();
-  } else if (config.reconstruct && s_.rounds > 0) {
-    const Reconstruction r = reconstruct(snap->raw, snap->bias, s_.tone, config.filter, cancel);
-    snap->reconstructed = r.output;
-    snap->alphaIndex = r.alphaIndex;
-  } else {
+  std::vector<uint8_t> alphaIndex;  // none without a reconstruction
+  if (reconstructImage && config.reconstruct && s_.rounds > 0) {
+    Reconstruction r = reconstruct(snap->raw, bias, s_.tone, config.filter, cancel);
+    snap->reconstructed = std::move(r.output);
+    alphaIndex = std::move(r.alphaIndex);
+  } else if (reconstructImage) {
     snap->reconstructed = snap->raw;
-    snap->alphaIndex.assign(pixelCount, 0);
+    alphaIndex.assign(pixelCount, 0);
     for (size_t p = 0; p < pixelCount; ++p)
-      snap->alphaIndex[p] = uint8_t(alphaIndexForBias(snap->bias[p], config.filter.phi));
+      alphaIndex[p] = uint8_t(alphaIndexForBias(bias[p], config.filter.phi));
+  }
+
+  // The maps, in the order --aov-dir has always written them.
+  snap->addMap(MapId::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
+  snap->addMap(MapId::ErrorEstimate, "bias", std::move(bias), MapLegend::sequential(0.0f, 1.0f));
+  const float erTop = std::max(1e-3f, finiteMax(er));
+  snap->addMap(MapId::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
+  addSelectedMap(*snap, s_.selected);
+  const int S = config.slicesPerSide;
+  std::vector<std::string> sliceLabels;
+  for (int i = 0; i < S * S; ++i) {
+    char label[32];
+    std::snprintf(label, sizeof label, "(%d,%d)", i % S, i / S);
+    sliceLabels.push_back(label);
+  }
+  const MapLegend slices = MapLegend::categorical(std::move(sliceLabels));
+  snap->addMap(MapId::SliceB, "slice B", std::move(sliceB), slices);
+  snap->addMap(MapId::SliceC, "slice C", std::move(sliceC), slices);
+  addSampleCountMaps(*snap, kept, traced);
+  if (!alphaIndex.empty()) {
+    std::vector<std::string> alphaLabels;
+    for (float a : config.filter.alphas) {
+      char label[32];
+      std::snprintf(label, sizeof label, "a=%g", double(a));
+      alphaLabels.push_back(label);
+    }
+    snap->addMap(MapId::FilterScale, "filter alpha", asFloats(alphaIndex),
+                 MapLegend::categorical(std::move(alphaLabels)));
   }
   if (reconstructImage) s_.times.reconstruct += secondsSince(start);
   snap->keptSamples = s_.kept;
@@ -178,25 +200,43 @@ PixelInspection BpMethod::inspect(int x, int y) const {
   const size_t p = size_t(y) * s_.width + x;
   const PixelState& s = s_.pixel(p);
   in.estimate = s_.store.estimate(p, config.stratifiedMean);
-  in.meanMapped = s.meanMapped();
-  in.prediction = s.prediction;
-  in.bias = s.bias;
-  in.networkError = s.er;
-  in.psi = config.psi;
-  in.errorThreshold = config.network.errorThreshold;
   in.kept = s.kept;
   in.traced = s.traced;
   in.addedLastRound = s.addedLastRound;
-  in.slicesPerSide = config.slicesPerSide;
-  in.sliceB = s.sliceB;
-  in.sliceC = s.sliceC;
-  in.warped = s.warped;
-  in.contrast = s.contrast;
+
+  char line[160];
+  const vec3 mean = s.meanMapped(), net = s.prediction;
+  std::snprintf(line, sizeof line, "mean I   %.3f %.3f %.3f (tone-mapped)", mean.x, mean.y, mean.z);
+  in.addValue("mean I", {mean.x, mean.y, mean.z}, line);
+  std::snprintf(line, sizeof line, "net  I'  %.3f %.3f %.3f", net.x, net.y, net.z);
+  in.addValue("I'", {net.x, net.y, net.z}, line, MapId::Prediction);
+  // The thresholds bias and er are compared with follow their values.
+  const float psi = config.psi, e = config.network.errorThreshold;
+  std::snprintf(line, sizeof line, "bias %.3f %s psi %.3f", s.bias, s.bias > psi ? ">" : "<=", psi);
+  in.addValue("bias", {s.bias, psi}, line, MapId::ErrorEstimate);
+  std::snprintf(line, sizeof line, "er   %.3f %s e %.3f", s.er, s.er > e ? ">" : "<=", e);
+  in.addValue("er", {s.er, e}, line, MapId::NetworkError);
+  const int a = alphaIndexForBias(s.bias, config.filter.phi);
+  const float alpha = size_t(a) < config.filter.alphas.size() ? config.filter.alphas[a] : -1.0f;
+  std::snprintf(line, sizeof line, "filter alpha %g (index %d)", alpha, a + 1);
+  in.addValue("filter alpha", {float(a), alpha}, line, MapId::FilterScale);
+  if (s.sliceB >= 0) {
+    std::snprintf(line, sizeof line, "B = slice %d, C = slice %d, eq. 14 %.3f, %s", s.sliceB,
+                  s.sliceC, s.contrast, s.warped ? "B's sample warped into C" : "no warping");
+    in.addValue("slices B, C", {float(s.sliceB), float(s.sliceC), s.contrast}, line, MapId::SliceB);
+  }
+
+  SubpixelInspection& sub = in.subpixel.emplace();
+  sub.slicesPerSide = config.slicesPerSide;
+  sub.sliceB = s.sliceB;
+  sub.sliceC = s.sliceC;
+  sub.warped = s.warped;
+  sub.contrast = s.contrast;
   for (const SliceStats& st : s_.store.slicesOf(p))
-    in.slices.push_back({st.count, float(st.meanV()), float(fDivergence(st))});
+    sub.slices.push_back({st.count, float(st.meanV()), float(fDivergence(st))});
   for (const StoredSample& st : s_.store.reservoirs[p])
-    in.samples.push_back({st.dx + 0.5f, st.dy + 0.5f, st.value, st.radiance, st.slice});
-  if (int64_t(p) == s_.inspected) in.candidates = s_.inspectedCandidates;
+    sub.samples.push_back({st.dx + 0.5f, st.dy + 0.5f, st.value, st.radiance, st.slice});
+  if (int64_t(p) == s_.inspected) sub.candidates = s_.inspectedCandidates;
   const auto it = std::find(s_.lastOrder.begin(), s_.lastOrder.end(), uint32_t(p));
   in.rankedPixels = s_.lastOrder.size();
   if (it != s_.lastOrder.end()) in.rank = int(it - s_.lastOrder.begin());

@@ -105,6 +105,14 @@ TEST(AllocationConfig, Validates) {
   EXPECT_NE(c.validate(shape).find("initial"), std::string::npos);
 }
 
+// The values of the snapshot's map `id` (the test fails when it has none).
+const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
+  static const std::vector<float> none;
+  const SnapshotMap* m = s.map(id);
+  EXPECT_NE(m, nullptr) << "no " << mapName(id) << " map";
+  return m ? m->values : none;
+}
+
 std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
   int guard = 0;
   while (!method.done() && guard++ < 100) method.runRound(nullptr);
@@ -142,7 +150,7 @@ TEST_P(Baseline, SpendsExactlyTheBudget) {
     EXPECT_EQ(snap->keptSamples + snap->nonFiniteSamples, uint64_t(spp) * pixels);
     EXPECT_EQ(snap->round, 4);  // the initial pass and 3 rounds
     uint64_t perPixel = 0;
-    for (uint32_t c : snap->tracedCount) perPixel += c;
+    for (float c : mapOf(*snap, MapId::TracedCount)) perPixel += uint64_t(c);
     EXPECT_EQ(perPixel, snap->tracedSamples);
   }
 }
@@ -178,7 +186,8 @@ TEST_P(Baseline, ConcentratesSamples) {
   auto prepared = flatAndNoisyHalves(kWidth, kHeight);
   auto method = makeMethod(*prepared, specFor(GetParam(), kSpp, 1));
   const auto snap = runToEnd(*method);
-  ASSERT_EQ(snap->tracedCount.size(), size_t(kWidth * kHeight));
+  const std::vector<float>& tracedMap = mapOf(*snap, MapId::TracedCount);
+  ASSERT_EQ(tracedMap.size(), size_t(kWidth * kHeight));
 
   // Samples beyond the initial pass, in each half and in the flat pixels more than 8
   // pixels from the noisy half (GEM places a chosen pixel's samples through a Gaussian of
@@ -187,7 +196,7 @@ TEST_P(Baseline, ConcentratesSamples) {
   int farFlatPixels = 0, unchosenWithMore = 0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
-      const uint32_t traced = snap->tracedCount[size_t(y * kWidth + x)];
+      const uint32_t traced = uint32_t(tracedMap[size_t(y * kWidth + x)]);
       ASSERT_GE(traced, uint32_t(kInitialSpp)) << x << "," << y;
       const double extra = traced - kInitialSpp;
       if (x >= kWidth / 2) {
@@ -221,9 +230,12 @@ TEST_P(Baseline, ConcentratesSamples) {
   const double farFlatMean = kInitialSpp + farFlatExtra / farFlatPixels;
   EXPECT_GE(noisyMean, 3 * farFlatMean);
 
-  ASSERT_EQ(snap->bias.size(), size_t(kWidth * kHeight));
-  EXPECT_GT(*std::max_element(snap->bias.begin(), snap->bias.end()), 0.0f);
-  EXPECT_EQ(snap->biasRange, 0.0f);
+  const SnapshotMap* score = snap->map(MapId::ErrorEstimate);
+  ASSERT_NE(score, nullptr);
+  ASSERT_EQ(score->values.size(), size_t(kWidth * kHeight));
+  EXPECT_GT(*std::max_element(score->values.begin(), score->values.end()), 0.0f);
+  // A score has no fixed scale: its colour bar ends at its 99th percentile.
+  EXPECT_EQ(score->legend.maxValue, percentileOf(score->values, 0.99f));
   EXPECT_EQ(snap->method, toString(GetParam()));
 }
 
@@ -242,7 +254,7 @@ TEST_P(Baseline, SameImageWhateverTheThreadCount) {
   }
   EXPECT_EQ(one->raw.pixels, many->raw.pixels);
   EXPECT_EQ(one->reconstructed.pixels, many->reconstructed.pixels);
-  EXPECT_EQ(one->tracedCount, many->tracedCount);
+  EXPECT_EQ(mapOf(*one, MapId::TracedCount), mapOf(*many, MapId::TracedCount));
   // Another seed gives another image.
   auto other = makeMethod(*prepared, specFor(GetParam(), 12, 8));
   EXPECT_NE(runToEnd(*other)->raw.pixels, one->raw.pixels);
@@ -265,7 +277,11 @@ TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   const PixelInspection in = method->inspect(8, 8);
   ASSERT_TRUE(in.valid);
   EXPECT_EQ(in.method, toString(GetParam()));
-  EXPECT_EQ(in.traced, snap->tracedCount[8 * 16 + 8]);
+  EXPECT_EQ(float(in.traced), mapOf(*snap, MapId::TracedCount)[8 * 16 + 8]);
+  // The score is the method's own value, labelled as that score.
+  ASSERT_NE(in.value(MapId::ErrorEstimate), nullptr);
+  EXPECT_EQ(in.value(MapId::ErrorEstimate)->label, snap->map(MapId::ErrorEstimate)->label);
+  EXPECT_FALSE(in.subpixel.has_value());  // the baselines store no samples
   EXPECT_FALSE(in.reason.empty());
   EXPECT_GE(in.rank, 0);
   EXPECT_FALSE(method->inspect(16, 0).valid);
@@ -275,20 +291,21 @@ TEST_P(Baseline, ViewerOverlaysHaveTheirMaps) {
   auto prepared = test::shippedScene("cornell", 16);
   auto method = makeMethod(*prepared, specFor(GetParam(), 8, 1));
   const auto snap = runToEnd(*method);
-  for (Overlay o : {Overlay::Bias, Overlay::Selected, Overlay::SampleCount, Overlay::TracedCount}) {
-    const OverlayImage image = buildOverlay(*snap, o, snap->reconstructed, nullptr, {});
-    EXPECT_TRUE(image.available()) << int(o) << ": " << image.unavailable;
+  for (MapId o : {MapId::ErrorEstimate, MapId::Selected, MapId::SampleCount, MapId::TracedCount}) {
+    const OverlayImage image = buildOverlay(*snap, o, snap->reconstructed, nullptr);
+    EXPECT_TRUE(image.available()) << mapName(o) << ": " << image.unavailable;
   }
-  const OverlayImage bias = buildOverlay(*snap, Overlay::Bias, snap->reconstructed, nullptr, {});
-  EXPECT_EQ(bias.legend.title, snap->biasLabel);
+  const OverlayImage bias = buildOverlay(*snap, MapId::ErrorEstimate, snap->reconstructed, nullptr);
+  // Labelled as the criterion's own score, not as BP's bias.
+  EXPECT_EQ(bias.label, snap->map(MapId::ErrorEstimate)->label);
+  EXPECT_NE(bias.label, "bias");
   EXPECT_GT(bias.legend.maxValue, 0.0f);
   // The filter scale: GEM has its own, labelled by sigma; the box-mean criteria none.
-  const OverlayImage scale =
-      buildOverlay(*snap, Overlay::FilterScale, snap->reconstructed, nullptr, {});
+  const OverlayImage scale = buildOverlay(*snap, MapId::FilterScale, snap->reconstructed, nullptr);
   if (GetParam() == MethodKind::Gem) {
     ASSERT_TRUE(scale.available());
-    ASSERT_EQ(scale.legend.labels.size(), 9u);
-    EXPECT_EQ(scale.legend.labels[1], "s=0.71");
+    ASSERT_EQ(scale.legend.categories.size(), 9u);
+    EXPECT_EQ(scale.legend.categories[1], "s=0.71");
   } else {
     EXPECT_FALSE(scale.available());
   }

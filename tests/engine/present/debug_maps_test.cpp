@@ -37,21 +37,13 @@ void expectColorNear(vec3 actual, vec3 expected, const std::string& what) {
     EXPECT_NEAR(actual[k], expected[k], 1e-5f) << what << " channel " << k;
 }
 
+// The maps' titles: "test" for the continuous ones, "classes" for the categorical ones.
 MapLegend continuousLegend(float minValue, float maxValue) {
-  MapLegend legend;
-  legend.title = "test";
-  legend.style = MapStyle::Continuous;
-  legend.minValue = minValue;
-  legend.maxValue = maxValue;
-  return legend;
+  return MapLegend::sequential(minValue, maxValue);
 }
 
 MapLegend categoricalLegend(std::vector<std::string> labels) {
-  MapLegend legend;
-  legend.title = "classes";
-  legend.style = MapStyle::Categorical;
-  legend.labels = std::move(labels);
-  return legend;
+  return MapLegend::categorical(std::move(labels));
 }
 
 // Whether some pixel of rows [top, image.height) has exactly this colour.
@@ -76,7 +68,7 @@ int litPixels(const Image& image) {
 
 TEST(DebugMaps, ContinuousFollowsViridisOverTheRangeAndClamps) {
   const std::vector<float> values = {2.0f, 4.0f, 6.0f, -10.0f, 100.0f, -kInf, kInf};
-  const Image image = drawMapWithLegend(values, 7, 1, continuousLegend(2.0f, 6.0f));
+  const Image image = drawMapWithLegend(values, 7, 1, "test", continuousLegend(2.0f, 6.0f));
   expectColorNear(image.at(0, 0), viridisLinear(0.0f), "minimum");
   expectColorNear(image.at(1, 0), viridisLinear(0.5f), "middle");
   expectColorNear(image.at(2, 0), viridisLinear(1.0f), "maximum");
@@ -90,14 +82,14 @@ TEST(DebugMaps, ContinuousFollowsViridisOverTheRangeAndClamps) {
 
 TEST(DebugMaps, ContinuousNaNIsMagenta) {
   const std::vector<float> values = {kNaN, 0.5f};
-  const Image image = drawMapWithLegend(values, 2, 1, continuousLegend(0.0f, 1.0f));
+  const Image image = drawMapWithLegend(values, 2, 1, "test", continuousLegend(0.0f, 1.0f));
   EXPECT_EQ(image.at(0, 0), vec3(1.0f, 0.0f, 1.0f));
   expectColorNear(image.at(1, 0), viridisLinear(0.5f), "finite neighbour");
 }
 
 TEST(DebugMaps, ContinuousEmptyRangeDoesNotDivideByZero) {
   const std::vector<float> values = {1.0f, 0.0f, 2.0f};
-  const Image image = drawMapWithLegend(values, 3, 1, continuousLegend(1.0f, 1.0f));
+  const Image image = drawMapWithLegend(values, 3, 1, "test", continuousLegend(1.0f, 1.0f));
   for (const vec3& p : image.pixels) EXPECT_TRUE(std::isfinite(p.x + p.y + p.z));
   expectColorNear(image.at(1, 0), viridisLinear(0.0f), "below");
   expectColorNear(image.at(2, 0), viridisLinear(1.0f), "above");
@@ -105,7 +97,7 @@ TEST(DebugMaps, ContinuousEmptyRangeDoesNotDivideByZero) {
 
 TEST(DebugMaps, ContinuousLegendShowsTheWholeColourBar) {
   const std::vector<float> values(20 * 10, 0.5f);
-  const Image image = drawMapWithLegend(values, 20, 10, continuousLegend(0.0f, 1.0f));
+  const Image image = drawMapWithLegend(values, 20, 10, "test", continuousLegend(0.0f, 1.0f));
   // The bar's ends are drawn with the exact extreme colours; the map itself has neither.
   EXPECT_TRUE(stripContains(image, 10, viridisLinear(0.0f)));
   EXPECT_TRUE(stripContains(image, 10, viridisLinear(1.0f)));
@@ -113,15 +105,16 @@ TEST(DebugMaps, ContinuousLegendShowsTheWholeColourBar) {
 
 TEST(DebugMaps, ContinuousTickLabelsFollowTheRange) {
   const std::vector<float> values(10, 0.0f);
-  const Image a = drawMapWithLegend(values, 10, 1, continuousLegend(0.0f, 1.0f));
-  const Image b = drawMapWithLegend(values, 10, 1, continuousLegend(0.0f, 1200.0f));
+  const Image a = drawMapWithLegend(values, 10, 1, "test", continuousLegend(0.0f, 1.0f));
+  const Image b = drawMapWithLegend(values, 10, 1, "test", continuousLegend(0.0f, 1200.0f));
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   EXPECT_NE(a.pixels, b.pixels);
 }
 
 TEST(DebugMaps, CategoricalColoursAndNone) {
   const std::vector<float> values = {0.0f, 1.0f, 2.0f, -1.0f, kNaN, 2.0f};
-  const Image image = drawMapWithLegend(values, 6, 1, categoricalLegend({"a", "b", "c"}));
+  const Image image =
+      drawMapWithLegend(values, 6, 1, "classes", categoricalLegend({"a", "b", "c"}));
   for (int i = 0; i < 3; ++i) EXPECT_EQ(image.at(i, 0), categoryColor(i, 3)) << "category " << i;
   EXPECT_EQ(image.at(5, 0), categoryColor(2, 3));
   const vec3 none = image.at(3, 0);
@@ -136,11 +129,11 @@ TEST(DebugMaps, CategoricalColoursAndNone) {
 TEST(DebugMaps, CategoricalNoneSwatchOnlyWhenNeeded) {
   const MapLegend legend = categoricalLegend({"a", "b"});
   const std::vector<float> withNone = {0.0f, -1.0f};
-  const Image a = drawMapWithLegend(withNone, 2, 1, legend);
+  const Image a = drawMapWithLegend(withNone, 2, 1, "classes", legend);
   const vec3 none = a.at(1, 0);
   EXPECT_TRUE(stripContains(a, 1, none));
   const std::vector<float> withoutNone = {0.0f, 1.0f};
-  const Image b = drawMapWithLegend(withoutNone, 2, 1, legend);
+  const Image b = drawMapWithLegend(withoutNone, 2, 1, "classes", legend);
   EXPECT_FALSE(stripContains(b, 1, none));
   // Every labelled category has a swatch, present in the map or not.
   EXPECT_TRUE(stripContains(b, 1, categoryColor(0, 2)));
@@ -151,7 +144,7 @@ TEST(DebugMaps, CategoricalSwatchesWrapIntoMoreRows) {
   std::vector<std::string> labels;
   for (int i = 0; i < 12; ++i) labels.push_back("category " + std::to_string(i));
   const std::vector<float> values(30 * 5, 0.0f);
-  const Image image = drawMapWithLegend(values, 30, 5, categoricalLegend(labels));
+  const Image image = drawMapWithLegend(values, 30, 5, "classes", categoricalLegend(labels));
   EXPECT_EQ(image.width, 200);
   EXPECT_GT(image.height, 5 + kStripHeight);
   // Wrapping, not clipping: every swatch made it into the picture.
@@ -161,7 +154,7 @@ TEST(DebugMaps, CategoricalSwatchesWrapIntoMoreRows) {
 
 TEST(DebugMaps, UnlabelledCategoriesStillGetColoursAndSwatches) {
   const std::vector<float> values = {0.0f, 4.0f};
-  const Image image = drawMapWithLegend(values, 2, 1, categoricalLegend({"a"}));
+  const Image image = drawMapWithLegend(values, 2, 1, "classes", categoricalLegend({"a"}));
   EXPECT_EQ(image.at(1, 0), categoryColor(4, 5));
   EXPECT_TRUE(stripContains(image, 1, categoryColor(4, 5)));
 }
@@ -183,12 +176,12 @@ TEST(DebugMaps, CategoryColoursAreDistinctAndInRange) {
 
 TEST(DebugMaps, OutputSizeAndPadding) {
   const std::vector<float> wide(300 * 10, 0.25f);
-  const Image a = drawMapWithLegend(wide, 300, 10, continuousLegend(0.0f, 1.0f));
+  const Image a = drawMapWithLegend(wide, 300, 10, "test", continuousLegend(0.0f, 1.0f));
   EXPECT_EQ(a.width, 300);
   EXPECT_EQ(a.height, 10 + kStripHeight);
 
   const std::vector<float> narrow(50 * 20, 0.25f);
-  const Image b = drawMapWithLegend(narrow, 50, 20, continuousLegend(0.0f, 1.0f));
+  const Image b = drawMapWithLegend(narrow, 50, 20, "test", continuousLegend(0.0f, 1.0f));
   EXPECT_EQ(b.width, 200);
   EXPECT_EQ(b.height, 20 + kStripHeight);
   expectColorNear(b.at(49, 19), viridisLinear(0.25f), "map corner");
@@ -199,20 +192,49 @@ TEST(DebugMaps, OutputSizeAndPadding) {
   for (int y = 0; y < 20; ++y)
     for (int x = 50; x < 200; ++x) ASSERT_EQ(b.at(x, y), pad) << x << "," << y;
 
-  const Image c = drawMapWithLegend({}, 0, 0, categoricalLegend({"a"}));
+  const Image c = drawMapWithLegend({}, 0, 0, "classes", categoricalLegend({"a"}));
   EXPECT_EQ(c.width, 200);
   EXPECT_EQ(c.height, kStripHeight);
 }
 
+TEST(DebugMaps, DivergingGoesFromBlueThroughGreyToRed) {
+  const std::vector<float> values = {-1.0f, 0.0f, 1.0f, 5.0f, kNaN};
+  const Image image = drawMapWithLegend(values, 5, 1, "signed", MapLegend::diverging(-1.0f, 1.0f));
+  const auto linear = [](vec3 srgb) {
+    return vec3(srgbToLinear(srgb.x), srgbToLinear(srgb.y), srgbToLinear(srgb.z));
+  };
+  expectColorNear(image.at(0, 0), linear(colormapDiverging(0.0f)), "low end");
+  expectColorNear(image.at(1, 0), linear(colormapDiverging(0.5f)), "middle");
+  expectColorNear(image.at(2, 0), linear(colormapDiverging(1.0f)), "high end");
+  EXPECT_EQ(image.at(3, 0), image.at(2, 0)) << "clamped above the range";
+  EXPECT_EQ(image.at(4, 0), vec3(1.0f, 0.0f, 1.0f)) << "NaN is magenta";
+  EXPECT_GT(colormapDiverging(0.0f).z, colormapDiverging(0.0f).x) << "blue below the middle";
+  EXPECT_GT(colormapDiverging(1.0f).x, colormapDiverging(1.0f).z) << "red above it";
+  const vec3 middle = colormapDiverging(0.5f);
+  EXPECT_EQ(middle.x, middle.y);
+  EXPECT_EQ(middle.y, middle.z);
+}
+
+TEST(DebugMaps, RgbMapsShowTheirValues) {
+  const std::vector<float> values = {0.25f, 0.5f, 1.0f, 0.0f, 0.1f, 0.0f};
+  const Image colors = mapColors(values, 2, 1, MapLegend::rgb());
+  EXPECT_EQ(colors.at(0, 0), vec3(0.25f, 0.5f, 1.0f));
+  EXPECT_EQ(colors.at(1, 0), vec3(0.0f, 0.1f, 0.0f));
+  EXPECT_THROW(mapColors(std::vector<float>(2, 0.0f), 2, 1, MapLegend::rgb()),
+               std::invalid_argument);  // three values per pixel
+  const Image picture = drawMapWithLegend(values, 2, 1, "I'", MapLegend::rgb());
+  EXPECT_EQ(picture.height, 1 + kStripHeight);  // the strip holds the title alone
+}
+
 TEST(DebugMaps, SizeMismatchThrows) {
   const std::vector<float> values(11, 0.0f);
-  EXPECT_THROW(drawMapWithLegend(values, 4, 3, continuousLegend(0.0f, 1.0f)),
+  EXPECT_THROW(drawMapWithLegend(values, 4, 3, "test", continuousLegend(0.0f, 1.0f)),
                std::invalid_argument);
-  EXPECT_THROW(drawMapWithLegend(values, -1, -11, continuousLegend(0.0f, 1.0f)),
+  EXPECT_THROW(drawMapWithLegend(values, -1, -11, "test", continuousLegend(0.0f, 1.0f)),
                std::invalid_argument);
   const std::string dir = test::outputPath("debug_maps/mismatch");
   fs::remove_all(dir);
-  EXPECT_THROW(writeDebugMap(dir, "m", values, 4, 3, continuousLegend(0.0f, 1.0f)),
+  EXPECT_THROW(writeDebugMap(dir, "m", values, 4, 3, "test", continuousLegend(0.0f, 1.0f)),
                std::invalid_argument);
   EXPECT_FALSE(fs::exists(dir)) << "nothing is created for a bad call";
 }
@@ -302,7 +324,7 @@ TEST(DebugMapsFiles, WritesExrAndPngIntoANewNestedDirectory) {
   const std::string dir = root + "/nested/deeper";
   const std::vector<float> values = {0.0f, 0.25f, -3.0f, 1e6f, kNaN, 0.5f};
   const MapLegend legend = continuousLegend(0.0f, 1.0f);
-  writeDebugMap(dir, "depth", values, 3, 2, legend);
+  writeDebugMap(dir, "depth", values, 3, 2, "test", legend);
 
   ASSERT_TRUE(fs::is_regular_file(dir + "/depth.exr"));
   ASSERT_TRUE(fs::is_regular_file(dir + "/depth.png"));
@@ -317,7 +339,7 @@ TEST(DebugMapsFiles, WritesExrAndPngIntoANewNestedDirectory) {
         EXPECT_EQ(raw.pixels[i][k], values[i]) << i;
     }
 
-  const Image expected = drawMapWithLegend(values, 3, 2, legend);
+  const Image expected = drawMapWithLegend(values, 3, 2, "test", legend);
   const Image picture = readImage(dir + "/depth.png");
   ASSERT_EQ(picture.width, expected.width);
   ASSERT_EQ(picture.height, expected.height);
@@ -328,8 +350,24 @@ TEST(DebugMapsFiles, WritesExrAndPngIntoANewNestedDirectory) {
           << "pixel " << i;
 
   // Writing again into the now existing directory replaces the files.
-  writeDebugMap(dir, "depth", values, 3, 2, categoricalLegend({"x"}));
+  writeDebugMap(dir, "depth", values, 3, 2, "classes", categoricalLegend({"x"}));
   EXPECT_EQ(readImage(dir + "/depth.png").width, 200);
+}
+
+// An Rgb map is its own picture: the EXR holds its colours, the PNG shows them without a strip.
+TEST(DebugMapsFiles, RgbMapIsWrittenAsItsColours) {
+  const std::string dir = test::outputPath("debug_maps/rgb");
+  fs::remove_all(dir);
+  const std::vector<float> values = {0.25f, 0.5f, 1.0f, 0.0f, 0.125f, 0.0f};
+  writeDebugMap(dir, "prediction", values, 2, 1, "I'", MapLegend::rgb());
+  const Image raw = readImage(dir + "/prediction.exr");
+  ASSERT_EQ(raw.width, 2);
+  ASSERT_EQ(raw.height, 1);
+  EXPECT_EQ(raw.at(0, 0), vec3(0.25f, 0.5f, 1.0f));
+  EXPECT_EQ(raw.at(1, 0), vec3(0.0f, 0.125f, 0.0f));
+  const Image picture = readImage(dir + "/prediction.png");
+  EXPECT_EQ(picture.width, 2);
+  EXPECT_EQ(picture.height, 1);
 }
 
 TEST(DebugMapsFiles, UncreatableDirectoryNamesIt) {
@@ -338,7 +376,7 @@ TEST(DebugMapsFiles, UncreatableDirectoryNamesIt) {
   std::ofstream(blocker) << "a file, not a directory";
   const std::string dir = blocker + "/sub";
   try {
-    writeDebugMap(dir, "m", std::vector<float>{1.0f}, 1, 1, continuousLegend(0.0f, 1.0f));
+    writeDebugMap(dir, "m", std::vector<float>{1.0f}, 1, 1, "test", continuousLegend(0.0f, 1.0f));
     FAIL() << "expected ImageIoError";
   } catch (const ImageIoError& error) {
     EXPECT_NE(std::string(error.what()).find(dir), std::string::npos) << error.what();

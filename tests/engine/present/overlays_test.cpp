@@ -13,6 +13,11 @@
 namespace penumbra {
 namespace {
 
+const std::vector<float> kBias = {0.0f, 0.25f, 0.5f,
+                                  1.0f, 2.0f,  std::numeric_limits<float>::quiet_NaN()};
+
+// A snapshot with the maps as BP fills them: bias over [0, 1], the selected pixels, the
+// sample counts and the filter scales labelled by their alphas.
 Snapshot smallSnapshot() {
   Snapshot s;
   s.method = "bp";
@@ -20,10 +25,11 @@ Snapshot smallSnapshot() {
   s.height = 2;
   s.raw = Image(3, 2, vec3(0.5f));
   s.reconstructed = s.raw;
-  s.bias = {0.0f, 0.25f, 0.5f, 1.0f, 2.0f, std::numeric_limits<float>::quiet_NaN()};
-  s.selected = {0, 1, 0, 1, 0, 1};
-  s.keptCount = {4, 8, 12, 16, 4, 4};
-  s.alphaIndex = {0, 1, 2, 3, 4, 0};
+  s.addMap(MapId::ErrorEstimate, "bias", kBias, MapLegend::sequential(0.0f, 1.0f));
+  addSelectedMap(s, {0, 1, 0, 1, 0, 1});
+  addSampleCountMaps(s, {4, 8, 12, 16, 4, 4}, {4, 8, 12, 16, 4, 4});
+  s.addMap(MapId::FilterScale, "filter alpha", {0, 1, 2, 3, 4, 0},
+           MapLegend::categorical({"a=0.1", "a=1", "a=3", "a=5", "a=10"}));
   s.slicesPerSide = 2;
   return s;
 }
@@ -61,26 +67,31 @@ TEST(Display, FilmicCurveIsMonotonicWithAShoulder) {
 
 TEST(Overlays, NamesRoundTripAndNumberKeysFollowTheList) {
   ASSERT_GE(overlayList().size(), 6u);
-  EXPECT_EQ(overlayList()[0].overlay, Overlay::Bias);
-  for (const OverlayInfo& o : overlayList()) {
+  EXPECT_EQ(overlayList()[0].id, MapId::ErrorEstimate);
+  for (const MapInfo& o : overlayList()) {
     ASSERT_TRUE(overlayByName(o.name).has_value()) << o.name;
-    EXPECT_EQ(*overlayByName(o.name), o.overlay);
-    EXPECT_STREQ(overlayName(o.overlay), o.name);
+    EXPECT_EQ(*overlayByName(o.name), o.id);
+    EXPECT_STREQ(overlayName(o.id), o.name);
+    if (o.alias) {
+      EXPECT_EQ(overlayByName(o.alias), o.id) << o.alias;
+    }
   }
-  EXPECT_EQ(overlayByName("none"), Overlay::None);
+  EXPECT_EQ(overlayByName("none"), MapId::None);
+  EXPECT_EQ(overlayByName("slices"), MapId::Selected);
+  EXPECT_EQ(overlayByName("filter-scale"), MapId::FilterScale);
   EXPECT_FALSE(overlayByName("sparkle").has_value());
 }
 
 TEST(Overlays, BiasMapUsesViridisOverZeroToOneAndMagentaForNaN) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage o =
-      buildOverlay(s, Overlay::Bias, s.reconstructed, nullptr, {0.1f, 1, 3, 5, 10});
+  const OverlayImage o = buildOverlay(s, MapId::ErrorEstimate, s.reconstructed, nullptr);
   ASSERT_TRUE(o.available()) << o.unavailable;
-  EXPECT_EQ(o.legend.style, MapStyle::Continuous);
+  EXPECT_EQ(o.label, "bias");
+  EXPECT_EQ(o.legend.kind, ColorMapKind::Sequential);
   EXPECT_FLOAT_EQ(o.legend.maxValue, 1.0f);
   auto srgb = [](vec3 c) { return vec3(linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)); };
   for (int i = 0; i < 5; ++i) {
-    const vec3 expected = colormapViridis(std::min(1.0f, s.bias[i]));
+    const vec3 expected = colormapViridis(std::min(1.0f, kBias[i]));
     const vec3 got = srgb(o.colors.pixels[i]);
     EXPECT_NEAR(got.x, expected.x, 2e-3f) << i;
     EXPECT_NEAR(got.y, expected.y, 2e-3f) << i;
@@ -93,14 +104,14 @@ TEST(Overlays, BiasMapUsesViridisOverZeroToOneAndMagentaForNaN) {
 
 TEST(Overlays, CategoricalMapsUseOneColourPerCategory) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage a = buildOverlay(s, Overlay::FilterScale, s.raw, nullptr, {0.1f, 1, 3, 5, 10});
+  const OverlayImage a = buildOverlay(s, MapId::FilterScale, s.raw, nullptr);
   ASSERT_TRUE(a.available());
-  EXPECT_EQ(a.legend.labels.size(), 5u);
-  EXPECT_EQ(a.legend.labels[0], "a=0.1");
+  EXPECT_EQ(a.legend.categories.size(), 5u);
+  EXPECT_EQ(a.legend.categories[0], "a=0.1");  // the method's own labels
   EXPECT_EQ(a.colors.pixels[0], categoryColor(0, 5));
   EXPECT_EQ(a.colors.pixels[4], categoryColor(4, 5));
   EXPECT_EQ(a.colors.pixels[5], a.colors.pixels[0]);
-  const OverlayImage sel = buildOverlay(s, Overlay::Selected, s.raw, nullptr, {});
+  const OverlayImage sel = buildOverlay(s, MapId::Selected, s.raw, nullptr);
   EXPECT_EQ(sel.colors.pixels[1], categoryColor(1, 2));
   EXPECT_EQ(sel.colors.pixels[0], categoryColor(0, 2));
 }
@@ -108,15 +119,15 @@ TEST(Overlays, CategoricalMapsUseOneColourPerCategory) {
 TEST(Overlays, MissingMapsSayWhy) {
   Snapshot s = smallSnapshot();
   s.method = "ld";
-  s.bias.clear();
-  const OverlayImage o = buildOverlay(s, Overlay::Bias, s.raw, nullptr, {});
+  std::erase_if(s.maps, [](const SnapshotMap& m) { return m.id == MapId::ErrorEstimate; });
+  const OverlayImage o = buildOverlay(s, MapId::ErrorEstimate, s.raw, nullptr);
   EXPECT_FALSE(o.available());
   EXPECT_NE(o.unavailable.find("ld"), std::string::npos);
-  const OverlayImage r = buildOverlay(s, Overlay::ReferenceError, s.raw, nullptr, {});
+  const OverlayImage r = buildOverlay(s, MapId::ReferenceError, s.raw, nullptr);
   EXPECT_FALSE(r.available());
   EXPECT_NE(r.unavailable.find("--reference"), std::string::npos);
   const Image wrongSize(2, 2);
-  const OverlayImage w = buildOverlay(s, Overlay::ReferenceError, s.raw, &wrongSize, {});
+  const OverlayImage w = buildOverlay(s, MapId::ReferenceError, s.raw, &wrongSize);
   EXPECT_FALSE(w.available());
   EXPECT_NE(w.unavailable.find("2x2"), std::string::npos);
 }
@@ -125,7 +136,7 @@ TEST(Overlays, ReferenceErrorIsTheRelativeSquaredErrorOfTheShownImage) {
   Snapshot s = smallSnapshot();
   Image reference(3, 2, vec3(0.5f));
   reference.pixels[2] = vec3(1.0f);  // one pixel is off: (0.5-1)^2 / (1 + 0.01)
-  const OverlayImage o = buildOverlay(s, Overlay::ReferenceError, s.raw, &reference, {});
+  const OverlayImage o = buildOverlay(s, MapId::ReferenceError, s.raw, &reference);
   ASSERT_TRUE(o.available());
   EXPECT_NEAR(o.values[2], 0.25f / 1.01f, 1e-6f);
   EXPECT_EQ(o.values[0], 0.0f);
@@ -147,7 +158,7 @@ TEST(Compose, BlendsInDisplaySpaceAndZeroBlendLeavesTheImage) {
 
 TEST(Compose, FrameAppliesTheTransformThenTheOverlay) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage o = buildOverlay(s, Overlay::SampleCount, s.raw, nullptr, {});
+  const OverlayImage o = buildOverlay(s, MapId::SampleCount, s.raw, nullptr);
   ASSERT_TRUE(o.available());
   DisplaySettings settings;
   settings.exposure = -1.0f;

@@ -107,13 +107,15 @@ CompareReport smallReport() {
   bp.image = r.reference;
   for (vec3& c : bp.image.pixels) c *= 1.02f;
   const size_t n = r.reference.pixels.size();
-  bp.density.assign(n, 8.0f);
-  for (size_t i = 0; i < n / 2; ++i) bp.density[i] = 32.0f;
-  bp.errorEstimate.assign(n, 0.01f);
-  bp.errorEstimateName = "bias";
-  bp.filterScale.assign(n, 0.0f);
-  for (size_t i = 0; i < n; i += 3) bp.filterScale[i] = 1.0f;
-  bp.filterScaleLabels = {"α=0.1", "α=0.5"};
+  std::vector<float> density(n, 8.0f);
+  for (size_t i = 0; i < n / 2; ++i) density[i] = 32.0f;
+  std::vector<float> filterScale(n, 0.0f);
+  for (size_t i = 0; i < n; i += 3) filterScale[i] = 1.0f;
+  bp.maps = {
+      {MapId::SampleCount, "kept spp", density, MapLegend::sequential(0, 32, "samples")},
+      {MapId::ErrorEstimate, "bias", std::vector<float>(n, 0.01f), MapLegend::sequential(0, 1)},
+      {MapId::FilterScale, "filter alpha", filterScale, MapLegend::categorical({"α=0.1", "α=0.5"})},
+  };
   r.methods = {ld, bp};
   return r;
 }
@@ -399,7 +401,8 @@ TEST(ReportWrite, SizeMismatchThrowsAndWritesNothing) {
   r.methods[1].image = gradient(16, 15);
   EXPECT_THROW(writeReport(dir.string(), r), std::invalid_argument);
   r = smallReport();
-  r.methods[0].density.assign(10, 1.0f);
+  r.methods[0].maps = {
+      {MapId::SampleCount, "kept spp", std::vector<float>(10, 1.0f), MapLegend::sequential(0, 1)}};
   EXPECT_THROW(writeReport(dir.string(), r), std::invalid_argument);
   r = smallReport();
   r.crops = {{"A", 10, 10, 8, 8}};  // reaches past the 16x16 image

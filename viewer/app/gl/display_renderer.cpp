@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <string>
 #include <utility>
 
 namespace penumbra {
@@ -47,14 +48,23 @@ void useProgram(unsigned program,
 
 }  // namespace
 
+std::vector<ShaderDefine> displayShaderDefines() {
+  return {
+      {"TONE_CURVE_SRGB", std::to_string(int(ToneCurve::Srgb))},
+      {"TONE_CURVE_FILMIC", std::to_string(int(ToneCurve::Filmic))},
+      {"SLICE_TEXEL_NONE", std::to_string(int(kSliceTexelNone)) + "u"},
+  };
+}
+
 DisplayRenderer::DisplayRenderer() {
   std::vector<unsigned> built;
+  const std::vector<ShaderDefine> defines = displayShaderDefines();
   try {
-    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag");
+    compositeProgram_ = buildProgram("fullscreen.vert", "composite.frag", defines);
     built.push_back(compositeProgram_);
-    viewProgram_ = buildProgram("fullscreen.vert", "view.frag");
+    viewProgram_ = buildProgram("fullscreen.vert", "view.frag", defines);
     built.push_back(viewProgram_);
-    quadProgram_ = buildProgram("quad.vert", "quad.frag");
+    quadProgram_ = buildProgram("quad.vert", "quad.frag", defines);
   } catch (...) {
     for (unsigned p : built) glDeleteProgram(p);
     throw;
@@ -69,7 +79,9 @@ DisplayRenderer::DisplayRenderer() {
   // Valid 1x1 contents so that a draw before the first upload samples something defined.
   setImage(Image(1, 1));
   setOverlay(Image(1, 1));
-  setSlices(1, 1, {-1}, {-1}, {0});
+  Snapshot empty;
+  empty.width = empty.height = 1;
+  setSlices(empty);
   width_ = height_ = 0;
 }
 
@@ -114,7 +126,7 @@ void DisplayRenderer::composite(const DisplayView& view) {
   const unsigned p = compositeProgram_;
   useProgram(p, {{"image", image_}, {"overlay", overlay_}});
   glUniform1f(uniform(p, "exposure"), view.display.exposure);
-  glUniform1i(uniform(p, "curve"), view.display.curve == ToneCurve::Filmic ? 1 : 0);
+  glUniform1i(uniform(p, "curve"), int(view.display.curve));
   glUniform1i(uniform(p, "hasOverlay"), view.overlay ? 1 : 0);
   glUniform1f(uniform(p, "blend"), view.blend);
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -125,16 +137,23 @@ void DisplayRenderer::composite(const DisplayView& view) {
   pictureBlend_ = view.blend;
 }
 
-void DisplayRenderer::setSlices(int width, int height, const std::vector<int8_t>& b,
-                                const std::vector<int8_t>& c,
-                                const std::vector<uint8_t>& selected) {
+void DisplayRenderer::setSlices(const Snapshot& snapshot) {
+  const int width = snapshot.width, height = snapshot.height;
   const size_t n = size_t(width) * height;
-  std::vector<uint8_t> texels(4 * n, 0);
-  for (size_t i = 0; i < n; ++i) {
-    texels[4 * i + 0] = i < b.size() ? uint8_t(b[i] + 1) : 0;
-    texels[4 * i + 1] = i < c.size() ? uint8_t(c[i] + 1) : 0;
-    texels[4 * i + 2] = i < selected.size() ? selected[i] : 0;
-  }
+  std::vector<uint8_t> texels(4 * n, kSliceTexelNone);
+  // The texel of a slice index: index + 1, kSliceTexelNone (0) for none (-1).
+  static_assert(kSliceTexelNone == 0, "a slice index i is stored as i + 1");
+  const auto channel = [&](MapId id, int k) {
+    const SnapshotMap* map = snapshot.map(id);
+    if (!map) return;
+    for (size_t i = 0; i < n && i < map->values.size(); ++i)
+      texels[4 * i + size_t(k)] = uint8_t(int(map->values[i]) + 1);
+  };
+  channel(MapId::SliceB, 0);
+  channel(MapId::SliceC, 1);
+  if (const SnapshotMap* selected = snapshot.map(MapId::Selected))
+    for (size_t i = 0; i < n && i < selected->values.size(); ++i)
+      texels[4 * i + 2] = uint8_t(selected->values[i]);
   glBindTexture(GL_TEXTURE_2D, slices_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8UI, width, height, 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,

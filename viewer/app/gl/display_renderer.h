@@ -7,11 +7,20 @@
 #pragma once
 
 #include "present/overlays.h"
+#include "viewer/app/gl/shader.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace penumbra {
+
+// The slices texture holds per pixel slice B + 1, slice C + 1 and the selected flag; this
+// texel value is "no slice" (the shaders' SLICE_TEXEL_NONE).
+inline constexpr uint8_t kSliceTexelNone = 0;
+
+// The #defines the display shaders are compiled with, from the C++ enums and constants above
+// (ToneCurve, kSliceTexelNone): the GLSL code uses these names, never numbers of its own.
+std::vector<ShaderDefine> displayShaderDefines();
 
 struct DisplayView {
   float zoom = 1.0f;               // screen pixels per image pixel
@@ -35,9 +44,9 @@ class DisplayRenderer {
 
   void setImage(const Image& image);
   void setOverlay(const Image& colors);  // linear RGB, the image's size
-  // Per pixel: slice B, slice C (-1 none) and the selected flag of the last round.
-  void setSlices(int width, int height, const std::vector<int8_t>& b, const std::vector<int8_t>& c,
-                 const std::vector<uint8_t>& selected);
+  // Per pixel: slice B, slice C (-1 none) and the selected flag of the last round, from the
+  // snapshot's SliceB, SliceC and Selected maps (none where it lacks one).
+  void setSlices(const Snapshot& snapshot);
   void setLegend(const Image& strip);  // empty: none
 
   // Draws into the bound framebuffer's viewport of width x height (both > 0).

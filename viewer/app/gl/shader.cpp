@@ -48,8 +48,8 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
   return log;
 }
 
-unsigned compile(GLenum type, const std::string& name) {
-  const std::string source = readShader(name);
+unsigned compile(GLenum type, const std::string& name, const std::vector<ShaderDefine>& defines) {
+  const std::string source = injectDefines(readShader(name), defines);
   const GLuint shader = glCreateShader(type);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
@@ -66,6 +66,17 @@ unsigned compile(GLenum type, const std::string& name) {
 
 }  // namespace
 
+std::string injectDefines(const std::string& source, const std::vector<ShaderDefine>& defines) {
+  if (defines.empty()) return source;
+  std::string lines;
+  for (const ShaderDefine& d : defines) lines += "#define " + d.name + " " + d.value + "\n";
+  const bool versioned = source.rfind("#version", 0) == 0;
+  const size_t end = versioned ? source.find('\n') : std::string::npos;
+  if (!versioned) return lines + "#line 1\n" + source;
+  if (end == std::string::npos) return source + "\n" + lines;
+  return source.substr(0, end + 1) + lines + "#line 2\n" + source.substr(end + 1);
+}
+
 std::string shaderDirectory() {
   const std::vector<fs::path> dirs = candidateDirectories();
   for (const fs::path& d : dirs) {
@@ -77,11 +88,12 @@ std::string shaderDirectory() {
   throw GlError(message + "\nset PENUMBRA_SHADER_DIR to the shaders/ folder of the source tree");
 }
 
-unsigned buildProgram(const std::string& vertex, const std::string& fragment) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
+unsigned buildProgram(const std::string& vertex, const std::string& fragment,
+                      const std::vector<ShaderDefine>& defines) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, defines);
   GLuint fsh = 0;
   try {
-    fsh = compile(GL_FRAGMENT_SHADER, fragment);
+    fsh = compile(GL_FRAGMENT_SHADER, fragment, defines);
   } catch (...) {
     glDeleteShader(vs);
     throw;

@@ -19,6 +19,14 @@ std::unique_ptr<PreparedScene> loadScaled(const std::string& name, int size) {
   return test::shippedScene(name, size);
 }
 
+// The values of the snapshot's map `id` (the test fails when it has none).
+const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
+  static const std::vector<float> none;
+  const SnapshotMap* m = s.map(id);
+  EXPECT_NE(m, nullptr) << "no " << mapName(id) << " map";
+  return m ? m->values : none;
+}
+
 std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
   while (!method.done()) method.runRound(nullptr);
   return method.snapshot();
@@ -153,15 +161,16 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
     const uint64_t pixels = 24 * 24;
     ASSERT_EQ(snap->nonFiniteSamples, 0u);
     EXPECT_EQ(snap->keptSamples, uint64_t(spp) * pixels) << spp;
-    EXPECT_EQ(std::accumulate(snap->keptCount.begin(), snap->keptCount.end(), uint64_t(0)),
-              uint64_t(spp) * pixels);
+    const std::vector<float>& kept = mapOf(*snap, MapId::SampleCount);
+    EXPECT_EQ(std::accumulate(kept.begin(), kept.end(), uint64_t(0)), uint64_t(spp) * pixels);
     // Traced mode traces N_candi candidates per adaptive sample in a non-empty slice.
     EXPECT_GT(snap->tracedSamples, snap->keptSamples);
     EXPECT_LE(snap->tracedSamples,
               uint64_t(config.effectiveCoarseSpp(shape)) * pixels +
                   uint64_t(spp - config.effectiveCoarseSpp(shape)) * pixels * 4);
     EXPECT_LE(snap->round, config.maxRounds + 1);
-    for (size_t p = 0; p < pixels; ++p) EXPECT_GE(snap->tracedCount[p], snap->keptCount[p]);
+    const std::vector<float>& traced = mapOf(*snap, MapId::TracedCount);
+    for (size_t p = 0; p < pixels; ++p) EXPECT_GE(traced[p], kept[p]);
   }
 }
 
@@ -200,8 +209,8 @@ TEST(BpMethod, SameSeedGivesTheSameImageWhateverTheThreadCount) {
   }
   EXPECT_EQ(one->raw.pixels, two->raw.pixels);
   EXPECT_EQ(one->reconstructed.pixels, two->reconstructed.pixels);
-  EXPECT_EQ(one->bias, two->bias);
-  EXPECT_EQ(one->keptCount, two->keptCount);
+  EXPECT_EQ(mapOf(*one, MapId::ErrorEstimate), mapOf(*two, MapId::ErrorEstimate));
+  EXPECT_EQ(mapOf(*one, MapId::SampleCount), mapOf(*two, MapId::SampleCount));
   EXPECT_EQ(one->rays, two->rays);
   shape.seed = 12;
   auto other = makeBpMethod(*prepared, shape, config);
@@ -220,30 +229,35 @@ TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
   method->runRound(nullptr);
   const auto next = method->snapshot();
   const float e = config.network.errorThreshold;
+  const std::vector<float>& bias = mapOf(*coarse, MapId::ErrorEstimate);
+  const std::vector<float>& er = mapOf(*coarse, MapId::NetworkError);
+  const std::vector<float>& chosen = mapOf(*next, MapId::Selected);
+  const std::vector<float>& keptBefore = mapOf(*coarse, MapId::SampleCount);
+  const std::vector<float>& keptAfter = mapOf(*next, MapId::SampleCount);
   size_t difficult = 0, selected = 0;
   float lowestSelectedBias = 1e30f;
-  for (size_t p = 0; p < coarse->bias.size(); ++p) {
-    const bool hard = coarse->bias[p] > config.psi && coarse->networkError[p] > e;
+  for (size_t p = 0; p < bias.size(); ++p) {
+    const bool hard = bias[p] > config.psi && er[p] > e;
     difficult += hard;
-    if (next->selected[p]) {
+    if (chosen[p]) {
       ++selected;
-      lowestSelectedBias = std::min(lowestSelectedBias, coarse->bias[p]);
+      lowestSelectedBias = std::min(lowestSelectedBias, bias[p]);
     }
   }
   ASSERT_GT(difficult, 0u);
   ASSERT_GT(selected, 0u);
-  ASSERT_LT(selected, coarse->bias.size());
-  for (size_t p = 0; p < coarse->bias.size(); ++p) {
-    const bool hard = coarse->bias[p] > config.psi && coarse->networkError[p] > e;
+  ASSERT_LT(selected, bias.size());
+  for (size_t p = 0; p < bias.size(); ++p) {
+    const bool hard = bias[p] > config.psi && er[p] > e;
     if (selected <= difficult) {
       // Only difficult pixels were sampled, and none left out has a higher bias.
-      if (next->selected[p]) EXPECT_TRUE(hard) << p;
-      if (hard && !next->selected[p]) EXPECT_LE(coarse->bias[p], lowestSelectedBias) << p;
+      if (chosen[p]) EXPECT_TRUE(hard) << p;
+      if (hard && !chosen[p]) EXPECT_LE(bias[p], lowestSelectedBias) << p;
     } else {
-      EXPECT_TRUE(!hard || next->selected[p]) << p;  // every difficult pixel was sampled
+      EXPECT_TRUE(!hard || chosen[p]) << p;  // every difficult pixel was sampled
     }
     // Each sampled pixel got S^2 = 4 samples, but the last one may get the remainder.
-    if (next->selected[p]) EXPECT_LE(next->keptCount[p] - coarse->keptCount[p], 4u);
+    if (chosen[p]) EXPECT_LE(keptAfter[p] - keptBefore[p], 4.0f);
   }
 }
 
@@ -342,7 +356,8 @@ TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   PixelInspection coarse = method->inspect(3, 4);
   ASSERT_TRUE(coarse.valid);
   EXPECT_EQ(coarse.kept, 4u);
-  EXPECT_EQ(coarse.samples.size(), 4u);
+  ASSERT_TRUE(coarse.subpixel.has_value());
+  EXPECT_EQ(coarse.subpixel->samples.size(), 4u);
   EXPECT_NE(coarse.reason.find("coarse"), std::string::npos);
   // Find a round in which the inspected pixel got samples; its candidates are recorded.
   PixelInspection in;
@@ -354,27 +369,30 @@ TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   ASSERT_GT(in.addedLastRound, 0u) << "the pixel never got samples";
   const auto snap = method->snapshot();
   const size_t p = 4 * 12 + 3;
-  EXPECT_EQ(in.kept, snap->keptCount[p]);
-  EXPECT_FLOAT_EQ(in.bias, snap->bias[p]);
-  EXPECT_EQ(in.sliceB, snap->sliceB[p]);
-  EXPECT_EQ(in.slices.size(), 4u);
+  EXPECT_EQ(float(in.kept), mapOf(*snap, MapId::SampleCount)[p]);
+  ASSERT_NE(in.value(MapId::ErrorEstimate), nullptr);
+  EXPECT_FLOAT_EQ(in.value(MapId::ErrorEstimate)->values[0], mapOf(*snap, MapId::ErrorEstimate)[p]);
+  ASSERT_TRUE(in.subpixel.has_value());
+  const SubpixelInspection& sub = *in.subpixel;
+  EXPECT_EQ(float(sub.sliceB), mapOf(*snap, MapId::SliceB)[p]);
+  EXPECT_EQ(sub.slices.size(), 4u);
   uint32_t sliceTotal = 0;
-  for (const InspectedSlice& s : in.slices) sliceTotal += s.count;
+  for (const InspectedSlice& s : sub.slices) sliceTotal += s.count;
   EXPECT_EQ(sliceTotal, in.kept);
-  for (const InspectedSample& s : in.samples) {
+  for (const InspectedSample& s : sub.samples) {
     EXPECT_GE(s.ox, 0.0f);
     EXPECT_LT(s.ox, 1.0f);
     EXPECT_EQ(s.slice, sliceOf(s.ox, s.oy, 2));
   }
   // Traced mode: N_candi candidates per new sample, exactly one kept per sample added.
   size_t keptCandidates = 0;
-  for (const InspectedCandidate& c : in.candidates) keptCandidates += c.kept;
+  for (const InspectedCandidate& c : sub.candidates) keptCandidates += c.kept;
   EXPECT_EQ(keptCandidates, in.addedLastRound);
-  EXPECT_GE(in.candidates.size(), in.addedLastRound);
+  EXPECT_GE(sub.candidates.size(), in.addedLastRound);
   EXPECT_GE(in.rank, 0);
   EXPECT_NE(in.reason.find("rank"), std::string::npos);
   // Another pixel: no candidates recorded for it.
-  EXPECT_TRUE(method->inspect(0, 0).candidates.empty());
+  EXPECT_TRUE(method->inspect(0, 0).subpixel->candidates.empty());
   EXPECT_FALSE(method->inspect(12, 0).valid);
 }
 
