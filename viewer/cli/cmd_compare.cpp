@@ -178,6 +178,120 @@ std::shared_ptr<Snapshot> runOnce(const PreparedScene& prepared, const MethodSpe
   return method->snapshot(true);
 }
 
+// The reference the methods are measured against: the given file, or one rendered (low
+// discrepancy, same integrator) into DIR so that the next comparison can reuse it. `note`
+// says where a rendered one came from.
+Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, std::string& note) {
+  const RenderSettings& settings = prepared.scene.settings;
+  Image reference;
+  if (flags.referencePath.empty()) {
+    std::filesystem::create_directories(flags.outDir);
+    flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
+    if (!flags.quiet)
+      std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
+                  flags.referenceSpp);
+    std::fflush(stdout);
+    const Reference ref = renderReference(prepared, flags.referenceSpp, 999, flags.threads);
+    writeImage(flags.referencePath, ref.render.image);
+    reference = ref.render.image;
+    char text[160];
+    std::snprintf(text, sizeof text, "rendered by compare at %d spp; its residual MSE %.3g",
+                  flags.referenceSpp, ref.convergence.residualMse);
+    note = text;
+  } else {
+    try {
+      reference = readImage(flags.referencePath);
+    } catch (const ImageIoError& e) {
+      throw CommandError(std::string("--reference ") + e.what());
+    }
+  }
+  if (reference.width != settings.width || reference.height != settings.height)
+    throw CommandError("--reference " + flags.referencePath + " is " +
+                       std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                       " but the render is " + std::to_string(settings.width) + "x" +
+                       std::to_string(settings.height) + " (give --size)");
+  return reference;
+}
+
+// One entry of --methods over every seed: its runs' metrics, and the first seed's image and
+// maps.
+report::MethodResult runEntry(const CompareFlags& flags, const Entry& e,
+                              const PreparedScene& prepared, const Image& reference) {
+  const double pixels = double(reference.width) * reference.height;
+  report::MethodResult result;
+  result.label = e.label;
+  result.spp = e.spp;
+  result.description = describe(e.kind);
+  MethodOptions options = flags.method;
+  options.method = e.kind;
+  if (e.preset) options.preset = *e.preset;
+  if (e.kind == MethodKind::Bp)
+    result.description += std::string(", ") + toString(options.preset) + " preset";
+  if (e.raw) result.description += ", before reconstruction";
+  for (int s = 0; s < flags.seeds; ++s) {
+    const uint64_t seed = flags.firstSeed + uint64_t(s);
+    // Equal time: open-ended rounds of 1 spp until the time is up.
+    const RunShape shape =
+        flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
+    MethodSpec spec{shape, options.config(e.kind, options.preset)};
+    for (const std::string& setting : e.settings)
+      applyParamSetting(spec, setting, "--methods: " + e.label);
+    BpConfig* bp = spec.get<BpConfig>();
+    if (bp && e.raw) bp->reconstruct = false;
+    if (const std::string problem = validate(spec); !problem.empty())
+      throw CommandError("--methods: " + e.label + ": " + problem);
+    if (s == 0) {
+      MethodConfig base = defaultConfig(e.kind);
+      if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
+      const std::string changes = describeChanges(spec, base);
+      if (!changes.empty()) result.description += ", " + changes;
+    }
+    const auto snap = runOnce(prepared, spec, flags.equalTime);
+    const bool useRaw = e.raw || (bp && !bp->reconstruct);
+    const Image& image = useRaw || snap->reconstructed.empty() ? snap->raw : snap->reconstructed;
+    report::MethodRun run;
+    run.seed = seed;
+    run.metrics = compareImages(image, reference);
+    run.keptSpp = double(snap->keptSamples) / pixels;
+    run.tracedSpp = double(snap->tracedSamples) / pixels;
+    run.seconds = snap->seconds;
+    run.trace = snap->times.trace;
+    run.train = snap->times.train;
+    run.select = snap->times.select;
+    run.reconstruct = snap->times.reconstruct;
+    result.runs.push_back(run);
+    if (!flags.quiet)
+      std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
+                  e.label.c_str(), static_cast<unsigned long long>(seed), run.metrics.mse,
+                  run.metrics.toneMappedMse, run.keptSpp, run.seconds);
+    std::fflush(stdout);
+    if (s == 0) {
+      result.image = image;
+      // The maps as the method published them; a raw image was not filtered, so its
+      // filter-scale map does not describe it.
+      for (const SnapshotMap& map : snap->maps)
+        if (!(useRaw && map.id == MapId::FilterScale)) result.maps.push_back(map);
+    }
+  }
+  return result;
+}
+
+// The one line a user wants: who wins, by how much.
+void printWinner(const std::string& outDir, const report::CompareReport& r) {
+  size_t best = 0;
+  std::vector<double> mse;
+  for (const auto& m : r.methods) {
+    std::vector<double> v;
+    for (const auto& run : m.runs) v.push_back(run.metrics.mse);
+    mse.push_back(report::summarize(v).mean);
+  }
+  for (size_t i = 1; i < mse.size(); ++i)
+    if (mse[i] < mse[best]) best = i;
+  std::printf("%s/report.html: %s has the lowest MSE (%.4g, %.2fx of %s)\n", outDir.c_str(),
+              r.methods[best].label.c_str(), mse[best], mse[0] > 0 ? mse[best] / mse[0] : 0.0,
+              r.methods[0].label.c_str());
+}
+
 void run(CompareFlags flags) {
   if (!flags.referencePath.empty()) {
     const std::string ext = lowercaseExtension(flags.referencePath);
@@ -192,40 +306,10 @@ void run(CompareFlags flags) {
                        "`, or leave --reference out to have compare render one)");
   if (flags.spp > 0) flags.scene.spp = flags.spp;
   auto prepared = prepareScene(loadSceneWithOptions(flags.scene));
-  const RenderSettings& settings = prepared->scene.settings;
-  const int spp = settings.spp;
+  const int spp = prepared->scene.settings.spp;
   const std::vector<Entry> entries = parseEntries(flags.methods, spp);
   std::string referenceNote;
-  Image reference;
-  if (flags.referencePath.empty()) {
-    // No reference given: render one (low discrepancy, same integrator) and keep it in DIR
-    // so the next comparison can reuse it.
-    std::filesystem::create_directories(flags.outDir);
-    flags.referencePath = (std::filesystem::path(flags.outDir) / "reference.exr").string();
-    if (!flags.quiet)
-      std::printf("no --reference: rendering %s at %d spp\n", flags.referencePath.c_str(),
-                  flags.referenceSpp);
-    std::fflush(stdout);
-    const Reference ref = renderReference(*prepared, flags.referenceSpp, 999, flags.threads);
-    writeImage(flags.referencePath, ref.render.image);
-    reference = ref.render.image;
-    const double residual = ref.convergence.residualMse;
-    char note[160];
-    std::snprintf(note, sizeof note, "rendered by compare at %d spp; its residual MSE %.3g",
-                  flags.referenceSpp, residual);
-    referenceNote = note;
-  } else {
-    try {
-      reference = readImage(flags.referencePath);
-    } catch (const ImageIoError& e) {
-      throw CommandError(std::string("--reference ") + e.what());
-    }
-  }
-  if (reference.width != settings.width || reference.height != settings.height)
-    throw CommandError("--reference " + flags.referencePath + " is " +
-                       std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                       " but the render is " + std::to_string(settings.width) + "x" +
-                       std::to_string(settings.height) + " (give --size)");
+  const Image reference = loadOrRenderReference(flags, *prepared, referenceNote);
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   std::unique_ptr<tbb::global_control> limit;
@@ -247,81 +331,9 @@ void run(CompareFlags flags) {
   r.exposure = flags.exposure;
   for (size_t i = 0; i < flags.crops.size(); ++i)
     r.crops.push_back(parseCrop(flags.crops[i], int(i), reference.width, reference.height));
-
-  const double pixels = double(reference.width) * reference.height;
-  for (const Entry& e : entries) {
-    report::MethodResult result;
-    result.label = e.label;
-    result.spp = e.spp;
-    result.description = describe(e.kind);
-    MethodOptions options = flags.method;
-    options.method = e.kind;
-    if (e.preset) options.preset = *e.preset;
-    if (e.kind == MethodKind::Bp)
-      result.description += std::string(", ") + toString(options.preset) + " preset";
-    if (e.raw) result.description += ", before reconstruction";
-    for (int s = 0; s < flags.seeds; ++s) {
-      const uint64_t seed = flags.firstSeed + uint64_t(s);
-      // Equal time: open-ended rounds of 1 spp until the time is up.
-      const RunShape shape =
-          flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
-      MethodSpec spec{shape, options.config(e.kind, options.preset)};
-      for (const std::string& setting : e.settings)
-        applyParamSetting(spec, setting, "--methods: " + e.label);
-      BpConfig* bp = spec.get<BpConfig>();
-      if (bp && e.raw) bp->reconstruct = false;
-      if (const std::string problem = validate(spec); !problem.empty())
-        throw CommandError("--methods: " + e.label + ": " + problem);
-      if (s == 0) {
-        MethodConfig base = defaultConfig(e.kind);
-        if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
-        const std::string changes = describeChanges(spec, base);
-        if (!changes.empty()) result.description += ", " + changes;
-      }
-      const auto snap = runOnce(*prepared, spec, flags.equalTime);
-      const bool useRaw = e.raw || (bp && !bp->reconstruct);
-      const Image& image = useRaw || snap->reconstructed.empty() ? snap->raw : snap->reconstructed;
-      report::MethodRun run;
-      run.seed = seed;
-      run.metrics = compareImages(image, reference);
-      run.keptSpp = double(snap->keptSamples) / pixels;
-      run.tracedSpp = double(snap->tracedSamples) / pixels;
-      run.seconds = snap->seconds;
-      run.trace = snap->times.trace;
-      run.train = snap->times.train;
-      run.select = snap->times.select;
-      run.reconstruct = snap->times.reconstruct;
-      result.runs.push_back(run);
-      if (!flags.quiet)
-        std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
-                    e.label.c_str(), static_cast<unsigned long long>(seed), run.metrics.mse,
-                    run.metrics.toneMappedMse, run.keptSpp, run.seconds);
-      std::fflush(stdout);
-      if (s == 0) {
-        result.image = image;
-        // The maps as the method published them; a raw image was not filtered, so its
-        // filter-scale map does not describe it.
-        for (const SnapshotMap& map : snap->maps)
-          if (!(useRaw && map.id == MapId::FilterScale)) result.maps.push_back(map);
-      }
-    }
-    r.methods.push_back(std::move(result));
-  }
+  for (const Entry& e : entries) r.methods.push_back(runEntry(flags, e, *prepared, reference));
   report::writeReport(flags.outDir, r);
-  if (flags.quiet) return;
-  // The one line a user wants: who wins, by how much.
-  size_t best = 0;
-  std::vector<double> mse;
-  for (const auto& m : r.methods) {
-    std::vector<double> v;
-    for (const auto& run : m.runs) v.push_back(run.metrics.mse);
-    mse.push_back(report::summarize(v).mean);
-  }
-  for (size_t i = 1; i < mse.size(); ++i)
-    if (mse[i] < mse[best]) best = i;
-  std::printf("%s/report.html: %s has the lowest MSE (%.4g, %.2fx of %s)\n", flags.outDir.c_str(),
-              r.methods[best].label.c_str(), mse[best], mse[0] > 0 ? mse[best] / mse[0] : 0.0,
-              r.methods[0].label.c_str());
+  if (!flags.quiet) printWinner(flags.outDir, r);
 }
 
 }  // namespace
