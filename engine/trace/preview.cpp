@@ -20,7 +20,7 @@ Image renderPreview(const PreparedScene& prepared, uint64_t seed, int block) {
       cs.imageY = 0.5f * float(y0 + y1);
       sampler.startSample(x0, y0, 0);
       vec3 L = traceRadiance(prepared, cs, sampler, counters);
-      if (!(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))) L = vec3(0.0f);
+      if (!isFinite(L)) L = vec3(0.0f);
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) image.at(x, y) = L;
     }
