@@ -3,12 +3,12 @@
 // and the Dear ImGui panel into the bound framebuffer, and reacts to input (keys, mouse,
 // scroll, resize) given in framebuffer pixels. The GLFW window (cmd_view.cpp) and the
 // headless backends drive the same object, so a screenshot shows what a person sees.
+// Its parts: view_state.h (the plain data), view_app.cpp (session and snapshots),
+// view_input.cpp (input), view_draw.cpp (textures and drawing), view_panel.* (ImGui windows).
 #pragma once
 
-#include "methods/factory.h"
 #include "methods/session.h"
-#include "present/overlays.h"
-#include "trace/integrator.h"
+#include "viewer/app/view_state.h"
 
 #include <chrono>
 #include <memory>
@@ -20,43 +20,6 @@ namespace penumbra {
 
 class DisplayRenderer;
 class ImGuiRenderer;
-
-struct ViewOptions {
-  std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
-  MethodKind method = MethodKind::Bp;
-  // Every method's configuration, in MethodKind's order: what the panel edits, kept when
-  // the panel switches to another method and back.
-  std::vector<MethodConfig> configs = defaultConfigs();
-  // Open-ended: the seed, the kept samples per pixel a round adds, and the target spp at
-  // which rendering stops (maxSpp; 0 = refine until stopped).
-  RunShape shape = RunShape::progressive(1);
-  int threads = 0;          // render threads (0 = all cores)
-  bool preview = true;      // a block preview before each (re)start (the window; not headless)
-  int rounds = -1;          // pause after this many rounds of each (re)start (-1: run on)
-  bool background = false;  // render at a lower priority than the UI thread (the window)
-  std::shared_ptr<const Image> reference;
-  std::string referencePath;
-  MapId overlay = MapId::None;  // the map shown over the image
-  float blend = 0.7f;
-  DisplaySettings display;
-  bool showRaw = false;  // the raw estimate instead of the reconstruction
-  std::string saveDirectory = ".";
-
-  MethodSpec spec() const { return {shape, configs[size_t(method)]}; }
-  // The filter scales BP's maps are labelled with.
-  const std::vector<float>& alphas() const {
-    return std::get<BpConfig>(configs[size_t(MethodKind::Bp)]).filter.alphas;
-  }
-};
-
-// Frame timing of the UI thread, for the panel and the window test's report.
-struct FrameStats {
-  uint64_t frames = 0;
-  double totalSeconds = 0, maxSeconds = 0, lastSeconds = 0;
-  std::vector<float> recent;  // the last frame times (seconds), for a percentile
-  void add(double seconds);
-  double percentile(double q) const;
-};
 
 class ViewerApp {
  public:
@@ -93,7 +56,7 @@ class ViewerApp {
   // keeps the current centre.
   void setView(float zoom, float x, float y);
   void inspectPixel(int x, int y);
-  bool quitRequested() const { return quit_; }
+  bool quitRequested() const { return view_.quit; }
   // Writes the shown image (linear .exr/.pfm or .png with the exposure); returns a message.
   std::string saveImage(const std::string& path) const;
   // Asks for a screenshot of the next drawn frame (written after it is drawn).
@@ -122,19 +85,15 @@ class ViewerApp {
   const std::string& lastMessage() const { return message_; }
 
  private:
-  friend void drawPanel(ViewerApp& app);  // view_panel.cpp
-  friend void drawInspector(ViewerApp& app);
-
   void setCamera(const Camera& camera);
   void refreshOverlay();
-  void toScreen(double x, double y, float& imageX, float& imageY) const;
   void zoomAt(float factor, double x, double y);
   int panelReserve() const;         // width the panel takes on the left, 0 without it
   const Image& shownImage() const;  // raw or reconstructed; needs a snapshot
+  void drawUi(int width, int height, double deltaSeconds);  // the ImGui windows
 
   ViewOptions options_;
   std::unique_ptr<RenderSession> session_;
-  Camera camera_;
   std::string configError_;  // why the panel's parameters cannot start
 
   // What is shown.
@@ -153,19 +112,10 @@ class ViewerApp {
   std::vector<double> firstPictureTimes_;
 
   // View and input.
-  int width_ = 1, height_ = 1;  // framebuffer
-  float zoom_ = 1.0f, centerX_ = 0.0f, centerY_ = 0.0f;
-  bool fitted_ = false;
-  int inspectX_ = -1, inspectY_ = -1;
-  bool dragging_[3] = {false, false, false};
-  double lastX_ = 0, lastY_ = 0, cursorX_ = -1, cursorY_ = -1, pressX_ = 0, pressY_ = 0;
-  bool held_[512] = {};
-  bool quit_ = false;
-  bool showPanel_ = true, showInspector_ = true, showHelp_ = false;
+  ViewState view_;
+  InputState input_;
   std::string screenshotPath_;
   std::string message_;
-  char savePath_[512] = "penumbra.exr";
-  char screenshotField_[512] = "screenshot.png";
   FrameStats frameStats_;
   bool recordFrameTimes_ = true;
 

@@ -1,8 +1,9 @@
 // The viewer's Dear ImGui windows: the panel (method and parameters, progress and timings,
 // display, overlays, the MSE plot, controls and saving) and the pixel inspector (why a pixel
 // got its samples).
+#include "viewer/app/view_panel.h"
+
 #include "eval/metrics.h"
-#include "viewer/app/view_app.h"
 
 #include <imgui.h>
 
@@ -125,9 +126,9 @@ void overlayValue(const OverlayImage& ov, size_t i) {
     ImGui::SetTooltip("%s", ov.legend.units.c_str());
 }
 
-void progress(ViewerApp& app, const Snapshot& s) {
+void progress(const RenderSession& session, const Snapshot& s) {
   const double pixels = std::max(1.0, double(s.width) * s.height);
-  ImGui::Text("%s  round %d  %s", s.method.c_str(), s.round, toString(app.session().state()));
+  ImGui::Text("%s  round %d  %s", s.method.c_str(), s.round, toString(session.state()));
   ImGui::Text("kept %.2f spp, traced %.2f spp", double(s.keptSamples) / pixels,
               double(s.tracedSamples) / pixels);
   const double mrays = s.seconds > 0 ? double(s.rays) / s.seconds * 1e-6 : 0.0;
@@ -198,7 +199,7 @@ void msePlot(const std::vector<std::pair<double, double>>& history) {
 
 }  // namespace
 
-void drawPanel(ViewerApp& app) {
+void drawPanel(const PanelState& state, const PanelActions& actions) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSizeConstraints(ImVec2(340, 0),
@@ -208,40 +209,42 @@ void drawPanel(ViewerApp& app) {
     ImGui::End();
     return;
   }
-  ViewOptions& o = app.options_;
-  const auto snap = app.snapshot_;
+  ViewOptions& o = state.options;
+  ViewState& v = state.view;
+  const auto snap = state.snapshot;
   if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) {
     if (snap)
-      progress(app, *snap);
+      progress(state.session, *snap);
     else
       ImGui::TextUnformatted("waiting for the first round");
-    if (app.firstPreviewSeconds_ >= 0)
-      ImGui::Text("first picture %.0f ms after the last restart", app.firstPreviewSeconds_ * 1e3);
-    const FrameStats& f = app.frameStats_;
+    if (state.firstPictureSeconds >= 0)
+      ImGui::Text("first picture %.0f ms after the last restart", state.firstPictureSeconds * 1e3);
+    const FrameStats& f = state.frameStats;
     ImGui::Text("UI frame %.1f ms (p95 %.1f ms)", f.lastSeconds * 1e3, f.percentile(0.95) * 1e3);
-    const bool paused = app.session().state() == RenderSession::State::Paused;
+    const bool paused = state.session.state() == RenderSession::State::Paused;
     if (ImGui::Button(paused ? "resume" : "pause")) {
       if (paused)
-        app.session().resume();
+        state.session.resume();
       else
-        app.session().pause();
+        state.session.pause();
     }
     ImGui::SameLine();
-    if (ImGui::Button("one round")) app.session().step();
+    if (ImGui::Button("one round")) state.session.step();
     ImGui::SameLine();
-    if (ImGui::Button("restart")) app.restart();
+    if (ImGui::Button("restart")) actions.restart();
   }
   if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) {
-    if (methodParameters(o)) app.restart();
-    if (!app.configError_.empty())
-      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", app.configError_.c_str());
+    if (methodParameters(o)) actions.restart();
+    if (!state.configError.empty())
+      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", state.configError.c_str());
   }
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::SliderFloat("exposure", &o.display.exposure, -10.0f, 10.0f, "%.1f stops");
     int curve = o.display.curve == ToneCurve::Filmic ? 1 : 0;
     if (ImGui::Combo("tone", &curve, "sRGB\0filmic\0"))
       o.display.curve = curve ? ToneCurve::Filmic : ToneCurve::Srgb;
-    if (ImGui::Checkbox("raw estimate (no reconstruction)", &o.showRaw)) app.overlayStale_ = true;
+    if (ImGui::Checkbox("raw estimate (no reconstruction)", &o.showRaw))
+      actions.shownImageChanged();
     int current = 0;
     const auto list = overlayList();
     for (size_t i = 0; i < list.size(); ++i)
@@ -249,38 +252,38 @@ void drawPanel(ViewerApp& app) {
     std::string items = std::string("none") + '\0';
     for (const MapInfo& info : list) items += std::string(info.panelLabel) + '\0';
     if (ImGui::Combo("overlay", &current, items.c_str()))
-      app.setOverlay(current == 0 ? MapId::None : list[size_t(current - 1)].id);
+      actions.setOverlay(current == 0 ? MapId::None : list[size_t(current - 1)].id);
     ImGui::SliderFloat("blend", &o.blend, 0.0f, 1.0f, "%.2f");
-    if (o.overlay != MapId::None && !app.overlayImage_.available())
-      ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", app.overlayImage_.unavailable.c_str());
-    ImGui::Text("zoom %.2fx", app.zoom_);
+    if (o.overlay != MapId::None && !state.overlay.available())
+      ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", state.overlay.unavailable.c_str());
+    ImGui::Text("zoom %.2fx", v.zoom);
     float ix, iy;
-    app.toScreen(app.cursorX_, app.cursorY_, ix, iy);
+    v.toImage(v.cursorX, v.cursorY, ix, iy);
     const int px = int(std::floor(ix)), py = int(std::floor(iy));
     if (snap && px >= 0 && py >= 0 && px < snap->width && py < snap->height) {
-      const vec3 c = app.shownImage().at(px, py);
+      const vec3 c = shownImage(*state.snapshot, o).at(px, py);
       ImGui::Text("pixel (%d, %d): %.4g %.4g %.4g", px, py, c.x, c.y, c.z);
-      const OverlayImage& ov = app.overlayImage_;
+      const OverlayImage& ov = state.overlay;
       if (ov.available()) overlayValue(ov, size_t(py) * snap->width + px);
     }
   }
   if (o.reference && ImGui::CollapsingHeader("Reference", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::TextUnformatted(o.referencePath.c_str());
-    const auto& h = app.mseHistory_;
+    const auto& h = state.mseHistory;
     if (!h.empty()) {
       ImGui::Text("MSE %.3e at %.1f spp", h.back().second, h.back().first);
       msePlot(h);
     }
   }
   if (ImGui::CollapsingHeader("Save")) {
-    ImGui::InputText("image", app.savePath_, sizeof app.savePath_);
+    ImGui::InputText("image", v.savePath, sizeof v.savePath);
     if (ImGui::Button("save image (.exr/.png)"))
-      app.message_ = app.saveImage(o.saveDirectory + "/" + app.savePath_);
-    ImGui::InputText("screenshot", app.screenshotField_, sizeof app.screenshotField_);
+      state.message = actions.saveImage(o.saveDirectory + "/" + v.savePath);
+    ImGui::InputText("screenshot", v.screenshotField, sizeof v.screenshotField);
     if (ImGui::Button("save screenshot"))
-      app.requestScreenshot(o.saveDirectory + "/" + app.screenshotField_);
+      actions.requestScreenshot(o.saveDirectory + "/" + v.screenshotField);
   }
-  if (ImGui::CollapsingHeader("Keys", app.showHelp_ ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
+  if (ImGui::CollapsingHeader("Keys", v.showHelp ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
     ImGui::Text(
         "1-%zu overlays, 0 none, [ ] blend, R raw/reconstructed\n"
         "-/= exposure, T tone curve, F fit, scroll zoom\n"
@@ -292,7 +295,7 @@ void drawPanel(ViewerApp& app) {
         "ctrl+S save image, Esc quit",
         overlayList().size());
   }
-  if (!app.message_.empty()) ImGui::TextWrapped("%s", app.message_.c_str());
+  if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());
   ImGui::End();
 }
 
@@ -349,7 +352,7 @@ void drawSubpixel(const SubpixelInspection& sub) {
 
 }  // namespace
 
-void drawInspector(ViewerApp& app) {
+void drawInspector(const PanelState& state, const PanelActions& actions) {
   ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 330, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.85f);
@@ -358,10 +361,11 @@ void drawInspector(ViewerApp& app) {
     ImGui::End();
     return;
   }
-  if (!open) app.inspectPixel(-1, -1);
-  const auto in = app.inspection_;
-  if (!in || !in->valid || in->x != app.inspectX_ || in->y != app.inspectY_) {
-    ImGui::Text("pixel (%d, %d): waiting for the round to finish", app.inspectX_, app.inspectY_);
+  if (!open) actions.inspectPixel(-1, -1);
+  const auto in = state.inspection;
+  if (!in || !in->valid || in->x != state.view.inspectX || in->y != state.view.inspectY) {
+    ImGui::Text("pixel (%d, %d): waiting for the round to finish", state.view.inspectX,
+                state.view.inspectY);
     ImGui::End();
     return;
   }

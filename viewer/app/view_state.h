@@ -1,0 +1,90 @@
+// The viewer's plain data, with no GL: what it renders and shows (ViewOptions), where and how
+// it looks at the image (ViewState: camera, zoom, pan, cursor, the inspected pixel, which
+// windows are open), what the input handlers track between events (InputState) and the UI
+// thread's frame timing (FrameStats). The panel and the input handlers edit these.
+#pragma once
+
+#include "methods/factory.h"
+#include "present/overlays.h"
+#include "scene/camera.h"
+#include "trace/integrator.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+struct ViewOptions {
+  std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
+  MethodKind method = MethodKind::Bp;
+  // Every method's configuration, in MethodKind's order: what the panel edits, kept when
+  // the panel switches to another method and back.
+  std::vector<MethodConfig> configs = defaultConfigs();
+  // Open-ended: the seed, the kept samples per pixel a round adds, and the target spp at
+  // which rendering stops (maxSpp; 0 = refine until stopped).
+  RunShape shape = RunShape::progressive(1);
+  int threads = 0;          // render threads (0 = all cores)
+  bool preview = true;      // a block preview before each (re)start (the window; not headless)
+  int rounds = -1;          // pause after this many rounds of each (re)start (-1: run on)
+  bool background = false;  // render at a lower priority than the UI thread (the window)
+  std::shared_ptr<const Image> reference;
+  std::string referencePath;
+  MapId overlay = MapId::None;  // the map shown over the image
+  float blend = 0.7f;
+  DisplaySettings display;
+  bool showRaw = false;  // the raw estimate instead of the reconstruction
+  std::string saveDirectory = ".";
+
+  MethodSpec spec() const { return {shape, configs[size_t(method)]}; }
+  // The filter scales BP's maps are labelled with.
+  const std::vector<float>& alphas() const {
+    return std::get<BpConfig>(configs[size_t(MethodKind::Bp)]).filter.alphas;
+  }
+};
+
+// The image shown of a snapshot: the raw estimate or the reconstruction.
+inline const Image& shownImage(const Snapshot& snapshot, const ViewOptions& options) {
+  return options.showRaw || snapshot.reconstructed.empty() ? snapshot.raw : snapshot.reconstructed;
+}
+
+// How the image is looked at, in framebuffer pixels (y down) and image pixels.
+struct ViewState {
+  Camera camera;                         // of the running view; moves restart the render
+  int width = 1, height = 1;             // framebuffer
+  float zoom = 1.0f;                     // screen pixels per image pixel
+  float centerX = 0.0f, centerY = 0.0f;  // image position at the framebuffer's centre
+  bool fitted = false;                   // fitView has run (or setView): refit on resize
+  int inspectX = -1, inspectY = -1;      // the inspected pixel (-1: none)
+  double cursorX = -1, cursorY = -1;     // the last cursor position
+  bool quit = false;
+  bool showPanel = true, showInspector = true, showHelp = false;
+  char savePath[512] = "penumbra.exr";
+  char screenshotField[512] = "screenshot.png";
+
+  // The image position under framebuffer position (x, y).
+  void toImage(double x, double y, float& imageX, float& imageY) const {
+    imageX = centerX + float(x - 0.5 * width) / zoom;
+    imageY = centerY + float(y - 0.5 * height) / zoom;
+  }
+};
+
+// What the input handlers remember between events: buttons dragging, where the last move and
+// the last press were, and the keys held (GLFW's codes).
+struct InputState {
+  bool dragging[3] = {false, false, false};
+  double lastX = 0, lastY = 0, pressX = 0, pressY = 0;
+  bool held[512] = {};
+};
+
+// Frame timing of the UI thread, for the panel and the window test's report.
+struct FrameStats {
+  uint64_t frames = 0;
+  double totalSeconds = 0, maxSeconds = 0, lastSeconds = 0;
+  std::vector<float> recent;  // the last frame times (seconds), for a percentile
+  void add(double seconds);
+  double percentile(double q) const;
+};
+
+}  // namespace penumbra
