@@ -2,6 +2,7 @@
 // scenes at a test size.
 #pragma once
 
+#include "methods/progressive.h"
 #include "trace/integrator.h"
 
 #include <memory>
@@ -14,5 +15,9 @@ std::string outputPath(const std::string& name);      // path under the build's 
 
 // scenes/<name>.json at size x size pixels, ready to trace.
 std::unique_ptr<PreparedScene> shippedScene(const std::string& name, int size);
+
+// Runs the method's rounds until it is done (a failure past `maxRounds`) and returns the
+// final snapshot, reconstruction included.
+std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method, int maxRounds = 1000);
 
 }  // namespace penumbra::test

@@ -1,6 +1,7 @@
 #include "methods/factory.h"
 
 #include <stdexcept>
+#include <type_traits>
 
 namespace penumbra {
 
@@ -19,41 +20,6 @@ constexpr Entry kMethods[] = {
     {MethodKind::Cycles, "cycles", "Cycles half-buffer error (Dammertz et al. 2010)"},
 };
 
-// Overloads by configuration type, so std::visit picks the method's own.
-std::string validateConfig(const RunShape& shape, const LdConfig&) { return shape.validate(); }
-std::string validateConfig(const RunShape& shape, const BpConfig& c) { return c.validate(shape); }
-std::string validateConfig(const RunShape& shape, const GemConfig& c) {
-  if (!(c.gamma > 0.0f && c.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
-  return c.validate(shape);
-}
-std::string validateConfig(const RunShape& shape, const AllocationConfig& c) {
-  return c.validate(shape);
-}
-
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const LdConfig& c) {
-  return makeLdMethod(p, s, c);
-}
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const BpConfig& c) {
-  return makeBpMethod(p, s, c);
-}
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const FDivConfig& c) {
-  return makeFDivMethod(p, s, c);
-}
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const FuzzyConfig& c) {
-  return makeFuzzyMethod(p, s, c);
-}
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const GemConfig& c) {
-  return makeGemMethod(p, s, c);
-}
-std::unique_ptr<ProgressiveMethod> make(const PreparedScene& p, const RunShape& s,
-                                        const CyclesConfig& c) {
-  return makeCyclesMethod(p, s, c);
-}
 template <typename Config>
 std::vector<MethodParam> erase(const ParamTable<Config>& table) {
   std::vector<MethodParam> out;
@@ -159,12 +125,36 @@ std::vector<MethodConfig> defaultConfigs() {
 }
 
 std::string validate(const MethodSpec& s) {
-  return std::visit([&](const auto& c) { return validateConfig(s.shape, c); }, s.config);
+  return std::visit(
+      [&](const auto& c) -> std::string {
+        using Config = std::decay_t<decltype(c)>;
+        if constexpr (std::is_same_v<Config, LdConfig>) {
+          return s.shape.validate();
+        } else {
+          if constexpr (std::is_same_v<Config, GemConfig>)
+            if (!(c.gamma > 0.0f && c.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
+          return c.validate(s.shape);
+        }
+      },
+      s.config);
 }
 
 std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared, const MethodSpec& s) {
   if (const std::string error = validate(s); !error.empty()) throw std::invalid_argument(error);
-  return std::visit([&](const auto& c) { return make(prepared, s.shape, c); }, s.config);
+  return std::visit(
+      [&](const auto& c) -> std::unique_ptr<ProgressiveMethod> {
+        using Config = std::decay_t<decltype(c)>;
+        if constexpr (std::is_same_v<Config, LdConfig>) return makeLdMethod(prepared, s.shape, c);
+        if constexpr (std::is_same_v<Config, BpConfig>) return makeBpMethod(prepared, s.shape, c);
+        if constexpr (std::is_same_v<Config, FDivConfig>)
+          return makeFDivMethod(prepared, s.shape, c);
+        if constexpr (std::is_same_v<Config, FuzzyConfig>)
+          return makeFuzzyMethod(prepared, s.shape, c);
+        if constexpr (std::is_same_v<Config, GemConfig>) return makeGemMethod(prepared, s.shape, c);
+        if constexpr (std::is_same_v<Config, CyclesConfig>)
+          return makeCyclesMethod(prepared, s.shape, c);
+      },
+      s.config);
 }
 
 }  // namespace penumbra

@@ -199,7 +199,8 @@ std::string formatParam(const Param<Config>& p, const Config& c) {
       std::string s;
       for (float v : p.getList(c)) {
         std::snprintf(text, sizeof text, "%g", double(v));
-        s += (s.empty() ? "" : ",") + std::string(text);
+        if (!s.empty()) s += ',';
+        s += text;
       }
       return s;
     }

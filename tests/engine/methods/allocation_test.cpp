@@ -114,10 +114,7 @@ const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
 }
 
 std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
-  int guard = 0;
-  while (!method.done() && guard++ < 100) method.runRound(nullptr);
-  EXPECT_TRUE(method.done());
-  return method.snapshot();
+  return test::runToEnd(method, 100);
 }
 
 MethodSpec specFor(MethodKind kind, int spp, uint64_t seed) {

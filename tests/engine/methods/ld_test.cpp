@@ -12,10 +12,7 @@
 namespace penumbra {
 namespace {
 
-std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
-  while (!method.done()) method.runRound(nullptr);
-  return method.snapshot();
-}
+using test::runToEnd;
 
 TEST(LdMethod, TheImageDoesNotDependOnHowRoundsSplitTheSamples) {
   auto prepared = test::shippedScene("cornell", 16);

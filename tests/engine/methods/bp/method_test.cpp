@@ -27,10 +27,7 @@ const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
   return m ? m->values : none;
 }
 
-std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
-  while (!method.done()) method.runRound(nullptr);
-  return method.snapshot();
-}
+using test::runToEnd;
 
 TEST(BpAllocate, SpendsTheBudgetExactlyInPriorityOrder) {
   const std::vector<uint32_t> order = {5, 2, 7};
@@ -251,13 +248,19 @@ TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
     const bool hard = bias[p] > config.psi && er[p] > e;
     if (selected <= difficult) {
       // Only difficult pixels were sampled, and none left out has a higher bias.
-      if (chosen[p]) EXPECT_TRUE(hard) << p;
-      if (hard && !chosen[p]) EXPECT_LE(bias[p], lowestSelectedBias) << p;
+      if (chosen[p]) {
+        EXPECT_TRUE(hard) << p;
+      }
+      if (hard && !chosen[p]) {
+        EXPECT_LE(bias[p], lowestSelectedBias) << p;
+      }
     } else {
       EXPECT_TRUE(!hard || chosen[p]) << p;  // every difficult pixel was sampled
     }
     // Each sampled pixel got S^2 = 4 samples, but the last one may get the remainder.
-    if (chosen[p]) EXPECT_LE(keptAfter[p] - keptBefore[p], 4.0f);
+    if (chosen[p]) {
+      EXPECT_LE(keptAfter[p] - keptBefore[p], 4.0f);
+    }
   }
 }
 
