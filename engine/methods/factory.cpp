@@ -23,19 +23,9 @@ constexpr Entry kMethods[] = {
 template <typename Config>
 std::vector<MethodParam> erase(const ParamTable<Config>& table) {
   std::vector<MethodParam> out;
-  for (const Param<Config>& p : table.params()) {
-    MethodParam m;
-    copyDescription(p, m);
-    if (p.get) m.get = [g = p.get](const MethodConfig& c) { return g(std::get<Config>(c)); };
-    if (p.set) m.set = [s = p.set](MethodConfig& c, double v) { s(std::get<Config>(c), v); };
-    if (p.getList)
-      m.getList = [g = p.getList](const MethodConfig& c) { return g(std::get<Config>(c)); };
-    if (p.setList)
-      m.setList = [s = p.setList](MethodConfig& c, const std::vector<float>& v) {
-        s(std::get<Config>(c), v);
-      };
-    out.push_back(std::move(m));
-  }
+  for (const Param<Config>& p : table.params())
+    out.push_back(rebindParam<MethodConfig>(
+        p, [](auto& c) -> auto& { return std::get<Config>(c); }));
   return out;
 }
 }  // namespace

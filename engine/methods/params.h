@@ -49,6 +49,31 @@ struct Param {
   }
 };
 
+// The same parameter on another configuration type: `part(config)` gives the `From` that a
+// `To` holds (a base, or a variant's alternative), for const and non-const configurations.
+template <typename To, typename From, typename Part>
+Param<To> rebindParam(const Param<From>& from, Part part) {
+  Param<To> to;
+  to.kind = from.kind;
+  to.name = from.name;
+  to.label = from.label;
+  to.group = from.group;
+  to.help = from.help;
+  to.min = from.min;
+  to.max = from.max;
+  to.uiMin = from.uiMin;
+  to.uiMax = from.uiMax;
+  to.logarithmic = from.logarithmic;
+  to.choices = from.choices;
+  to.flag = from.flag;
+  if (from.get) to.get = [g = from.get, part](const To& c) { return g(part(c)); };
+  if (from.set) to.set = [s = from.set, part](To& c, double v) { s(part(c), v); };
+  if (from.getList) to.getList = [g = from.getList, part](const To& c) { return g(part(c)); };
+  if (from.setList)
+    to.setList = [s = from.setList, part](To& c, const std::vector<float>& v) { s(part(c), v); };
+  return to;
+}
+
 // The panel's range where it differs from the accepted one.
 struct UiRange {
   double min = NAN, max = NAN;
@@ -115,19 +140,10 @@ class ParamTable {
   template <typename Base>
   ParamTable& include(const ParamTable<Base>& other) {
     if (!other.params().empty()) group_ = other.params().back().group;
-    for (const Param<Base>& b : other.params()) {
-      Param<Config> p;
-      copyDescription(b, p);
-      if (b.get) p.get = [g = b.get](const Config& c) { return g(static_cast<const Base&>(c)); };
-      if (b.set) p.set = [s = b.set](Config& c, double v) { s(static_cast<Base&>(c), v); };
-      if (b.getList)
-        p.getList = [g = b.getList](const Config& c) { return g(static_cast<const Base&>(c)); };
-      if (b.setList)
-        p.setList = [s = b.setList](Config& c, const std::vector<float>& v) {
-          s(static_cast<Base&>(c), v);
-        };
-      params_.push_back(std::move(p));
-    }
+    // A Config is a Base: the accessors take it as it is.
+    for (const Param<Base>& b : other.params())
+      params_.push_back(rebindParam<Config>(
+          b, [](auto& c) -> auto& { return c; }));
     return *this;
   }
   const std::vector<Param<Config>>& params() const { return params_; }
@@ -155,23 +171,6 @@ class ParamTable {
   std::string group_;
   std::vector<Param<Config>> params_;
 };
-
-// Copies what describes a parameter (everything but its accessors).
-template <typename From, typename To>
-void copyDescription(const Param<From>& from, Param<To>& to) {
-  to.kind = from.kind;
-  to.name = from.name;
-  to.label = from.label;
-  to.group = from.group;
-  to.help = from.help;
-  to.min = from.min;
-  to.max = from.max;
-  to.uiMin = from.uiMin;
-  to.uiMax = from.uiMax;
-  to.logarithmic = from.logarithmic;
-  to.choices = from.choices;
-  to.flag = from.flag;
-}
 
 inline std::string formatBound(double v) {
   char text[32];

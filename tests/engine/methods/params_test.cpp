@@ -19,7 +19,9 @@ TEST(Params, EveryEntryReadsAndWritesItsOwnField) {
       EXPECT_FALSE(p.help.empty()) << p.name;
       EXPECT_FALSE(p.label.empty()) << p.name;
       EXPECT_FALSE(p.group.empty()) << p.name;
-      if (p.kind == ParamKind::Flag) EXPECT_EQ(p.flag.rfind("--", 0), 0u) << p.name;
+      if (p.kind == ParamKind::Flag) {
+        EXPECT_EQ(p.flag.rfind("--", 0), 0u) << p.name;
+      }
     }
     // Changing one entry changes that entry alone: no two entries share a field.
     for (size_t i = 0; i < params.size(); ++i) {
