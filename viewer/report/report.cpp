@@ -1,6 +1,6 @@
 // The `penumbra compare` report: statistics over seeds, the choice of crops where methods
-// differ, and the writers of results.json, results.csv, report.md and the PNG images (the
-// self-contained report.html is written by report_html.cpp). Every file goes through
+// differ, and the writers of results.json, results.csv, curves.csv, report.md and the PNG
+// images (the self-contained report.html is written by report_html.cpp). Every file goes through
 // writeFileAtomically.
 #include "viewer/report/report.h"
 
@@ -121,6 +121,24 @@ std::string htmlEscape(const std::string& text) {
   return out;
 }
 
+// Inside a Markdown table cell: pipes and newlines would end the cell.
+std::string markdownCell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|')
+      out += "\\|";
+    else if (c == '\n' || c == '\r')
+      out += ' ';
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '&')
+      out += "&amp;";
+    else
+      out += c;
+  }
+  return out;
+}
+
 // sRGB hex colour of a linear colour, for HTML and SVG.
 std::string hexColor(vec3 linear) {
   const auto byte = [](float v) { return int(std::lround(255.0f * linearToSrgb(v))); };
@@ -198,24 +216,6 @@ std::string exact(double v) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
   return std::string(buffer, result.ptr);
-}
-
-// Inside a Markdown table cell: pipes and newlines would end the cell.
-std::string markdownCell(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '|')
-      out += "\\|";
-    else if (c == '\n' || c == '\r')
-      out += ' ';
-    else if (c == '<')
-      out += "&lt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
 }
 
 std::string csvField(const std::string& text) {
@@ -486,6 +486,22 @@ std::string resultsCsv(const CompareReport& r) {
   return csv;
 }
 
+// One row per curve point of every run; only the header when no run has a curve.
+std::string curvesCsv(const CompareReport& r) {
+  std::string csv = "label,seed,checkpoint,seconds,mse,rel_mse,tone_mapped_mse,kept_spp\n";
+  for (const MethodResult& m : r.methods)
+    for (const MethodRun& run : m.runs)
+      for (const CurvePoint& point : run.curve) {
+        csv += csvField(m.label) + "," + std::to_string(run.seed) + "," +
+               std::to_string(point.checkpoint);
+        for (double v :
+             {point.seconds, point.mse, point.relMse, point.toneMappedMse, point.keptSpp})
+          csv += ',', csv += exact(v);
+        csv += "\n";
+      }
+  return csv;
+}
+
 // JSON has no NaN or infinity: those become null.
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -522,6 +538,14 @@ json resultsJson(const Prepared& p) {
       for (const Metric& metric : kMetrics) jr[metric.key] = number(metric.value(run));
       jr["max_abs_error"] = number(run.metrics.maxAbsError);
       jr["non_finite_pixels"] = run.metrics.nonFinite;
+      jr["curve"] = json::array();
+      for (const CurvePoint& point : run.curve)
+        jr["curve"].push_back({{"checkpoint", point.checkpoint},
+                               {"seconds", number(point.seconds)},
+                               {"mse", number(point.mse)},
+                               {"rel_mse", number(point.relMse)},
+                               {"tone_mapped_mse", number(point.toneMappedMse)},
+                               {"kept_spp", number(point.keptSpp)}});
       jm["runs"].push_back(jr);
     }
     const MethodImages& images = p.images[m];
@@ -574,7 +598,7 @@ std::string reportMarkdown(const Prepared& p) {
           meanSd(s[kToneMse], sci, sciSd) + " | " + meanSd(s[kPsnr], decibels, decibels) + " | " +
           seconds(s[kSeconds]) + " | " + ratio(s[kMse].mean / p.stats[0][kMse].mean) + " |\n";
   }
-  md += "\n" + summarySentence(p) + "\n\n## Images\n\n| reference |";
+  md += "\n" + summarySentence(p) + "\n\n" + curvesMarkdown(p) + "## Images\n\n| reference |";
   for (const MethodResult& m : r.methods) md += " " + markdownCell(m.label) + " |";
   md += "\n|---|";
   for (size_t m = 0; m < r.methods.size(); ++m) md += "---|";
@@ -615,7 +639,7 @@ std::string reportMarkdown(const Prepared& p) {
   }
   md +=
       "\nAlso: [report.html](report.html), [results.json](results.json), "
-      "[results.csv](results.csv).\n";
+      "[results.csv](results.csv), [curves.csv](curves.csv).\n";
   return md;
 }
 
@@ -739,6 +763,7 @@ void writeReport(const std::string& dir, const CompareReport& r) {
   Prepared p(r);
   p.crops = r.crops.empty() ? chooseCrops(r) : r.crops;
   p.stats = statsOf(r);
+  for (const MethodResult& m : r.methods) p.meanCurves.push_back(meanCurve(m));
   std::set<std::string> usedStems = {"reference", "overview"}, usedCropStems;
   for (const MethodResult& m : r.methods)
     p.stems.push_back(uniqueStem(m.label, "method", usedStems));
@@ -753,6 +778,7 @@ void writeReport(const std::string& dir, const CompareReport& r) {
 
   writeImages(root, p);
   writeText(root / "results.csv", resultsCsv(r));
+  writeText(root / "curves.csv", curvesCsv(r));
   writeText(root / "results.json", resultsJson(p).dump(2) + "\n");
   writeText(root / "report.md", reportMarkdown(p));
   writeText(root / "report.html", reportHtml(p));

@@ -23,6 +23,19 @@ struct Stat {
 };
 Stat summarize(const std::vector<double>& values);
 
+// One point of a run's time-to-quality curve: the image the method's user gets (reconstructed
+// unless the entry is raw) measured against the reference during the run.
+struct CurvePoint {
+  // Which of the run's scheduled checkpoints this is (0, 1, ...: the k-th time of an
+  // equal-time run, or kept spp 2^k of an equal-spp run); kFinalCheckpoint for the run's end.
+  // Seeds are averaged at equal checkpoints.
+  int checkpoint = 0;
+  double seconds = 0;  // the method's own wall time (see `penumbra compare`: no measuring)
+  double mse = 0, relMse = 0, toneMappedMse = 0;
+  double keptSpp = 0;
+};
+inline constexpr int kFinalCheckpoint = -1;
+
 // One seed of one method.
 struct MethodRun {
   uint64_t seed = 0;
@@ -30,6 +43,9 @@ struct MethodRun {
   double keptSpp = 0, tracedSpp = 0;
   double seconds = 0;                                        // total wall time
   double trace = 0, train = 0, select = 0, reconstruct = 0;  // phase times, seconds
+  // Time to quality, in order of time, the last point the run's end (the metrics above);
+  // empty when compare ran without curves.
+  std::vector<CurvePoint> curve;
 };
 
 struct MethodResult {
@@ -72,7 +88,9 @@ struct CompareReport {
 std::vector<Crop> chooseCrops(const CompareReport& r, int count = 3, int size = 0);
 
 // Writes into `dir` (created if missing), each file atomically:
-//   results.json, results.csv (one row per method and seed), report.md,
+//   results.json, results.csv (one row per method and seed), curves.csv (one row per curve
+//   point: label, seed, checkpoint, seconds, mse, rel_mse, tone_mapped_mse, kept_spp; only
+//   the header when no run has a curve), report.md,
 //   images/*.png (each method's image, error, density, error-estimate and filter-scale maps,
 //   the reference, an overview with the crops outlined, and the crops zoomed per method),
 //   report.html (one self-contained page: images embedded as data: URLs).

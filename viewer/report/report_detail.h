@@ -1,5 +1,6 @@
-// Internal to report*.cpp: what report.cpp (statistics, images, results, report.md) and
-// report_html.cpp (report.html) share. Not part of the public API, which is viewer/report/report.h.
+// Internal to report*.cpp: what report.cpp (statistics, images, results, report.md),
+// report_curves.cpp (time to quality), report_charts.cpp (the SVG charts) and report_html.cpp
+// (report.html) share. Not part of the public API, which is viewer/report/report.h.
 #pragma once
 
 #include "viewer/report/report.h"
@@ -71,6 +72,7 @@ std::string ratio(double v);  // "2.41×"
 // "mean ± sd" (the sd only where there are at least two seeds).
 std::string meanSd(const Stat& s, std::string (*mean)(double), std::string (*sd)(double));
 std::string htmlEscape(const std::string& text);
+std::string markdownCell(const std::string& text);  // inside a Markdown table cell
 // sRGB hex colour of a linear colour, for HTML and SVG.
 std::string hexColor(vec3 linear);
 vec3 cropColor(size_t index, size_t count);  // the colour of crop `index` of `count`
@@ -117,9 +119,43 @@ struct Prepared {
   float errorScale = 1;                // shared top of the error maps' colour bar
   Png reference, overview;
   std::vector<MethodImages> images;
-  std::vector<std::vector<Png>> cropImages;  // [crop][0: reference, 1 + method]
-  std::vector<std::vector<double>> cropMse;  // [crop][method]
+  std::vector<std::vector<Png>> cropImages;         // [crop][0: reference, 1 + method]
+  std::vector<std::vector<double>> cropMse;         // [crop][method]
+  std::vector<std::vector<CurvePoint>> meanCurves;  // per method, meanCurve()
 };
+
+// ---- Time to quality (report_curves.cpp) --------------------------------------------------
+// How the curves' times are measured, for report.html and report.md.
+extern const char* const kCurveTimingNote;
+
+// A method's curve averaged over its seeds: at each checkpoint that every seed's curve has
+// (CurvePoint::checkpoint), the mean of their points; in order of time. Runs without a curve
+// are left out; empty when no run has one.
+std::vector<CurvePoint> meanCurve(const MethodResult& m);
+bool anyCurve(const CompareReport& r);
+
+// When a curve first reaches an MSE: interpolated linearly in log time and log MSE between the
+// checkpoint before and the first checkpoint at or below the level. `atFirst`: the first
+// checkpoint is already there, so the level was reached at or before `seconds`. NaN seconds:
+// never within the run.
+struct Reach {
+  double seconds = kNaN;
+  bool atFirst = false;
+};
+Reach timeToReach(const std::vector<CurvePoint>& curve, double mse);
+std::string reachText(const Reach& reach);  // "840 ms", "≤ 31 ms", "never"
+
+// The "## Time to quality" section of report.md: each method's time to reach every method's
+// final MSE. Empty when no run has a curve.
+std::string curvesMarkdown(const Prepared& p);
+
+// ---- Charts (report_charts.cpp) -----------------------------------------------------------
+// Horizontal bars of the mean of metric k on a log axis, with whiskers at mean ± sd.
+std::string barChart(const Prepared& p, size_t k, const std::string& title);
+// The "Time to quality" section of report.html: the log-log charts of MSE and relMSE against
+// the methods' own wall seconds, their legend and the time-to-reach table. Empty when no run
+// has a curve.
+std::string curvesHtml(const Prepared& p);
 
 // "ld wins on MSE with 1.2e-03 ± 3e-05 (4 seeds); bp has 2.41× its MSE."
 std::string summarySentence(const Prepared& p);

@@ -1,6 +1,7 @@
 // The report.html of `penumbra compare`: one self-contained page (images embedded as data:
-// URLs, inline CSS and SVG, no network) with the results table and charts, the images with
-// the crops outlined, the zoomed crops and each method's maps.
+// URLs, inline CSS and SVG, no network) with the time-to-quality curves, the results table
+// and charts, the images with the crops outlined, the zoomed crops and each method's maps (the
+// charts are drawn by report_charts.cpp).
 #include "viewer/report/report_detail.h"
 
 #include "present/debug_maps.h"
@@ -52,6 +53,10 @@ img.px { image-rendering: pixelated; }
 .charts { display: flex; flex-wrap: wrap; gap: 24px; margin-top: 16px; }
 svg.chart text { fill: #cfcfcf; font: 12px system-ui, sans-serif; }
 svg.chart .axis { fill: #8c8c8c; font-size: 11px; }
+.legend { margin: 10px 0 0; font-weight: 600; }
+.legend .line { display: inline-block; width: 22px; height: 4px; border-radius: 2px;
+                margin: 0 6px 0 16px; vertical-align: 3px; }
+.legend .line:first-child { margin-left: 0; }
 footer { margin-top: 40px; color: #777; font-size: 12px; }
 )";
 
@@ -103,68 +108,6 @@ std::string framedImage(const Prepared& p, const Png& png, const DisplayScale& s
     html += "</svg>";
   }
   return html + "</div>";
-}
-
-// Horizontal bars of the mean on a log axis, with whiskers at mean ± sd.
-std::string barChart(const Prepared& p, size_t k, const std::string& title) {
-  const CompareReport& r = p.r;
-  double lo = std::numeric_limits<double>::infinity(), hi = 0;
-  for (const auto& s : p.stats) {
-    const Stat& st = s[k];
-    if (!(st.mean > 0) || !std::isfinite(st.mean)) continue;
-    const double sd = std::isfinite(st.stddev) ? st.stddev : 0;
-    lo = std::min(lo, st.mean - sd > 0 ? st.mean - sd : st.mean);
-    hi = std::max(hi, st.mean + sd);
-  }
-  if (!(hi > 0)) return "";
-  const int lo10 = int(std::floor(std::log10(lo))),
-            hi10 = std::max(lo10 + 1, int(std::ceil(std::log10(hi))));
-  const int left = 110, plotWidth = 380, right = 90, top = 30, rowHeight = 26;
-  const int width = left + plotWidth + right, height = top + int(r.methods.size()) * rowHeight + 26;
-  const auto xOf = [&](double v) {
-    const double t = (std::log10(std::max(v, std::pow(10.0, lo10))) - lo10) / double(hi10 - lo10);
-    return left + plotWidth * std::clamp(t, 0.0, 1.0);
-  };
-  const int best = winnerOf(p.stats, k);
-  std::string svg = format(
-      "<svg class=\"chart\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
-      "role=\"img\">",
-      width, height, width, height);
-  svg += "<text x=\"0\" y=\"16\" font-weight=\"700\">" + htmlEscape(title) + "</text>";
-  const int axisY = top + int(r.methods.size()) * rowHeight;
-  const int step = hi10 - lo10 > 8 ? 2 : 1;
-  for (int e = lo10; e <= hi10; e += step) {
-    const double x = xOf(std::pow(10.0, e));
-    svg += format("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"#3a3a3e\"/>", x,
-                  top - 4, x, axisY);
-    svg += format("<text class=\"axis\" x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">1e%d</text>", x,
-                  axisY + 16, e);
-  }
-  for (size_t m = 0; m < r.methods.size(); ++m) {
-    const Stat& st = p.stats[m][k];
-    const double y = top + double(m) * rowHeight;
-    svg += format("<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">", left - 8, y + 17) +
-           htmlEscape(r.methods[m].label) + "</text>";
-    if (!(st.mean > 0) || !std::isfinite(st.mean)) {
-      svg += format("<text class=\"axis\" x=\"%d\" y=\"%.1f\">n/a</text>", left + 4, y + 17);
-      continue;
-    }
-    const double x = xOf(st.mean);
-    svg += format("<rect x=\"%d\" y=\"%.1f\" width=\"%.1f\" height=\"16\" rx=\"2\" fill=\"%s\"/>",
-                  left, y + 5, std::max(1.0, x - left), int(m) == best ? "#6fbf73" : "#5f84ad");
-    if (st.count > 1 && std::isfinite(st.stddev) && st.stddev > 0) {
-      const double x0 = xOf(st.mean - st.stddev), x1 = xOf(st.mean + st.stddev), yc = y + 13;
-      svg += format(
-          "<path d=\"M%.1f %.1fH%.1fM%.1f %.1fV%.1fM%.1f %.1fV%.1f\" stroke=\"#e6e6e6\" "
-          "stroke-width=\"1.3\" fill=\"none\"/>",
-          x0, yc, x1, x0, yc - 5, yc + 5, x1, yc - 5, yc + 5);
-    }
-    svg +=
-        format("<text x=\"%.1f\" y=\"%.1f\">",
-               std::max(x, xOf(st.mean + (std::isfinite(st.stddev) ? st.stddev : 0))) + 6, y + 17) +
-        sci(st.mean) + "</text>";
-  }
-  return svg + "</svg>";
 }
 
 // The maps: one section per kind (the error, then the rows of reportMaps()), each with only
@@ -247,6 +190,7 @@ std::string reportHtml(const Prepared& p) {
           false);
   metaRow("command", r.commandLine, true);
   html += "</dl></header>\n<p class=\"summary\">" + htmlEscape(summarySentence(p)) + "</p>\n";
+  html += curvesHtml(p);
 
   // Results table, best value per ranked column highlighted.
   const std::string first = r.methods.empty() ? "" : htmlEscape(r.methods[0].label);
