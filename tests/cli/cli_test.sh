@@ -241,6 +241,65 @@ for m in j["methods"]:
         assert r["seconds"] >= 0.3, (m["label"], r["seconds"])
 assert j["methods"][0]["runs"][0]["kept_spp"] > 8, j["methods"][0]["runs"][0]
 ' "$work/eqt/results.json"
+# Time to quality: each run's curve in curves.csv and results.json, checkpoints in order,
+# times increasing, every error finite, the tone-mapped MSE lower at the end than at the first
+# checkpoint, and the last point the run's final numbers.
+check "equal time curves" python3 -c '
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert list(rows[0].keys()) == ["label", "seed", "checkpoint", "seconds", "mse", "rel_mse",
+                                "tone_mapped_mse", "kept_spp"], rows[0].keys()
+j = json.load(open(sys.argv[2]))
+for m in j["methods"]:
+    run = m["runs"][0]
+    points = [r for r in rows if r["label"] == m["label"] and r["seed"] == "1"]
+    assert len(points) >= 3 and len(points) == len(run["curve"]), (m["label"], len(points))
+    checkpoints = [int(p["checkpoint"]) for p in points]
+    assert checkpoints[-1] == -1 and checkpoints[:-1] == sorted(set(checkpoints[:-1])), checkpoints
+    assert all(0 <= c < 8 for c in checkpoints[:-1]), checkpoints
+    seconds = [float(p["seconds"]) for p in points]
+    assert seconds[0] > 0 and all(a < b for a, b in zip(seconds, seconds[1:])), seconds
+    for p in points:
+        for key in ("mse", "rel_mse", "tone_mapped_mse", "kept_spp"):
+            assert math.isfinite(float(p[key])) and float(p[key]) >= 0, (m["label"], key, p)
+    kept = [float(p["kept_spp"]) for p in points]
+    assert all(a <= b for a, b in zip(kept, kept[1:])), kept
+    tone = [float(p["tone_mapped_mse"]) for p in points]
+    assert tone[-1] < tone[0], (m["label"], tone)
+    assert math.isclose(float(points[-1]["mse"]), run["mse"], rel_tol=1e-12), (points[-1], run)
+    assert math.isclose(seconds[-1], run["seconds"], rel_tol=1e-12) and seconds[-1] >= 0.3, run
+' "$work/eqt/curves.csv" "$work/eqt/results.json"
+check "equal time report.html has the two curve charts" test "$(grep -o '<svg class="chart curve"' "$work/eqt/report.html" | wc -l)" -eq 2
+check "report.md has the time-to-quality table" grep -q '^## Time to quality' "$work/eqt/report.md"
+# Equal spp: the checkpoints are at kept spp 1, 2, 4 (LD) and the end; --no-curve measures no
+# curve and leaves the final numbers as they are with one (the same final snapshot).
+check "equal spp curves" python3 -c '
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["label"] == "ld" and r["seed"] == "1"]
+assert [r["checkpoint"] for r in rows] == ["0", "1", "2", "-1"], rows
+assert [float(r["kept_spp"]) for r in rows] == [1, 2, 4, 8], rows
+' "$cmp/curves.csv"
+nocurve="$work/nocurve"
+expect_ok "compare --no-curve" "$penumbra" compare "$cornell" --size 24x24 --methods ld,gem,bp:tuned --spp 8 --seeds 2 --reference "$ref" --out "$nocurve" -q --no-curve
+check "--no-curve: curves.csv has only its header" test "$(wc -l <"$nocurve/curves.csv")" -eq 1
+check "--no-curve: no curve in results.json, report.html or report.md" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert all(run["curve"] == [] for m in j["methods"] for run in m["runs"]), j["methods"][0]["runs"]
+assert "Time to quality" not in open(sys.argv[2]).read()
+assert "Time to quality" not in open(sys.argv[3]).read()
+' "$nocurve/results.json" "$nocurve/report.html" "$nocurve/report.md"
+check "--no-curve: the same final numbers as with curves" python3 -c '
+import json, sys
+def finals(path):
+    return {(m["label"], r["seed"]): [r[k] for k in ("mse", "rel_mse", "tone_mapped_mse", "kept_spp",
+                                                      "traced_spp")]
+            for m in json.load(open(path))["methods"] for r in m["runs"]}
+with_curves, without = finals(sys.argv[1]), finals(sys.argv[2])
+assert len(without) == 6, without
+for key, values in without.items():
+    assert with_curves[key] == values, (key, with_curves[key], values)
+' "$cmp/results.json" "$nocurve/results.json"
 
 # Bad compares: one line naming the problem, and no report in the output folder.
 bad="$work/bad"

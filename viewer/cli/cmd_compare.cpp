@@ -1,7 +1,8 @@
 // `penumbra compare`: renders one scene with several methods under the fair-comparison
 // protocol of ALGORITHM.md §11 (same integrator, same LD sampler, fixed seeds, equal kept
 // spp or equal wall time) and writes the report (viewer/report/report.h): report.html,
-// report.md, results.json, results.csv and the images.
+// report.md, results.json, results.csv, curves.csv and the images. Every run also gets a
+// time-to-quality curve, measured at checkpoints during the run (see runOnce).
 //
 // A method entry is NAME[:MODIFIER...][@SPP]: NAME one of methodNames(); modifiers
 // `paper`, `tuned` (BP presets) and `raw` (the estimate before reconstruction, e.g. the
@@ -21,6 +22,7 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -42,6 +44,7 @@ struct CompareFlags {
   int seeds = 5;
   uint64_t firstSeed = 1;
   double equalTime = 0;
+  bool noCurve = false;
   int referenceSpp = 4096;
   int threads = 0;
   float exposure = 0;
@@ -162,20 +165,96 @@ std::string elapsed(double seconds) {
   return text;
 }
 
-// Runs one method once: to its budget, or open-ended until `equalTime` seconds.
-std::shared_ptr<Snapshot> runOnce(const PreparedScene& prepared, const MethodSpec& spec,
-                                  double equalTime) {
+// ---- Time to quality ----------------------------------------------------------------------
+// How a run's curve (report::CurvePoint) is measured; the report repeats it
+// (report::detail::kCurveTimingNote):
+//  - Checkpoints: in an equal-time run of T seconds at the times T/16 * 2^(k/2), k = 0..7 (the
+//    last about 0.71 T); in an equal-spp run after the first round whose kept spp reaches 2^k,
+//    k = 0, 1, ...; and the run's end (the run's final numbers). A round that passes several
+//    checkpoints gives one point, the last of them.
+//  - At a checkpoint: method->snapshot(true) and compareImages of the image the method's user
+//    gets (reconstructed unless the entry is raw) against the reference. An equal-spp run
+//    learns its kept spp after every round from a snapshot(false) probe.
+//  - A point's time is the method's wall time less the time spent in the earlier
+//    measurements (probes, checkpoint snapshots and their metrics): the checkpoint's own
+//    snapshot counts, its reconstruction being part of what that image costs. The run's
+//    seconds and reconstruct phase leave every measurement out.
+//  - The equal-time deadline is on that own time: measuring extends the run, so every method
+//    gets the same time for its own work.
+// Without curves (--no-curve) nothing is measured before the end.
+
+using Clock = std::chrono::steady_clock;
+
+struct RunPlan {
+  double equalTime = 0;  // seconds per run; 0: the spp budget
+  bool curve = true;
+  bool raw = false;  // the user's image is the raw estimate
+  const Image* reference = nullptr;
+};
+
+struct RunOutcome {
+  std::shared_ptr<Snapshot> snap;         // at the end
+  std::vector<report::CurvePoint> curve;  // the checkpoints before the end
+  double measuring = 0;                   // wall seconds spent measuring
+  double measuringReconstruct = 0;        // the method's reconstruct time in those snapshots
+};
+
+constexpr int kTimeCheckpoints = 8;
+double checkpointTime(double budget, int k) { return budget / 16 * std::exp2(k / 2.0); }
+
+const Image& userImage(const Snapshot& snap, bool raw) {
+  return raw || snap.reconstructed.empty() ? snap.raw : snap.reconstructed;
+}
+
+report::CurvePoint curvePoint(int checkpoint, double seconds, const ImageMetrics& metrics,
+                              double keptSpp) {
+  return {checkpoint, seconds, metrics.mse, metrics.relMse, metrics.toneMappedMse, keptSpp};
+}
+
+// Runs one method once: to its budget, or open-ended until `plan.equalTime` seconds of its own
+// time, measuring its curve on the way (see above).
+RunOutcome runOnce(const PreparedScene& prepared, const MethodSpec& spec, const RunPlan& plan) {
   auto method = makeMethod(prepared, spec);
-  const auto start = std::chrono::steady_clock::now();
-  auto seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto start = Clock::now();
+  const auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const double pixels = double(plan.reference->width) * plan.reference->height;
+  RunOutcome out;
+  double lastReconstruct = 0;
+  // A snapshot taken to measure: its reconstruct time is noted, for the run to leave out.
+  const auto measuringSnapshot = [&](bool reconstruct) {
+    auto snap = method->snapshot(reconstruct);
+    out.measuringReconstruct += snap->times.reconstruct - lastReconstruct;
+    lastReconstruct = snap->times.reconstruct;
+    return snap;
   };
+  const auto checkpoint = [&](int k) {
+    const double since = wall();
+    const auto snap = measuringSnapshot(true);
+    const ImageMetrics metrics = compareImages(userImage(*snap, plan.raw), *plan.reference);
+    out.curve.push_back(
+        curvePoint(k, snap->seconds - out.measuring, metrics, double(snap->keptSamples) / pixels));
+    out.measuring += wall() - since;
+  };
+  int next = 0;  // the next checkpoint
   int guard = 0;
   while (!method->done() && guard++ < 1000000) {
     method->runRound(nullptr);
-    if (equalTime > 0 && seconds() >= equalTime) break;
+    const double own = wall() - out.measuring;
+    if (plan.equalTime > 0 && own >= plan.equalTime) break;
+    if (!plan.curve || method->done()) continue;  // the end is measured by the caller
+    int k = next - 1;
+    if (plan.equalTime > 0) {
+      while (k + 1 < kTimeCheckpoints && checkpointTime(plan.equalTime, k + 1) <= own) ++k;
+    } else {
+      const double since = wall();
+      const double kept = double(measuringSnapshot(false)->keptSamples) / pixels;
+      out.measuring += wall() - since;
+      while (kept >= std::exp2(k + 1)) ++k;
+    }
+    if (k >= next) checkpoint(k), next = k + 1;
   }
-  return method->snapshot(true);
+  out.snap = method->snapshot(true);
+  return out;
 }
 
 // The reference the methods are measured against: the given file, or one rendered (low
@@ -246,19 +325,26 @@ report::MethodResult runEntry(const CompareFlags& flags, const Entry& e,
       const std::string changes = describeChanges(spec, base);
       if (!changes.empty()) result.description += ", " + changes;
     }
-    const auto snap = runOnce(prepared, spec, flags.equalTime);
     const bool useRaw = e.raw || (bp && !bp->reconstruct);
-    const Image& image = useRaw || snap->reconstructed.empty() ? snap->raw : snap->reconstructed;
+    const RunOutcome outcome =
+        runOnce(prepared, spec, RunPlan{flags.equalTime, !flags.noCurve, useRaw, &reference});
+    const std::shared_ptr<Snapshot>& snap = outcome.snap;
+    const Image& image = userImage(*snap, useRaw);
     report::MethodRun run;
     run.seed = seed;
     run.metrics = compareImages(image, reference);
     run.keptSpp = double(snap->keptSamples) / pixels;
     run.tracedSpp = double(snap->tracedSamples) / pixels;
-    run.seconds = snap->seconds;
+    run.seconds = snap->seconds - outcome.measuring;
     run.trace = snap->times.trace;
     run.train = snap->times.train;
     run.select = snap->times.select;
-    run.reconstruct = snap->times.reconstruct;
+    run.reconstruct = snap->times.reconstruct - outcome.measuringReconstruct;
+    if (!flags.noCurve) {
+      run.curve = outcome.curve;
+      run.curve.push_back(
+          curvePoint(report::kFinalCheckpoint, run.seconds, run.metrics, run.keptSpp));
+    }
     result.runs.push_back(run);
     if (!flags.quiet)
       std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
@@ -343,7 +429,8 @@ void registerCompareCommand(CLI::App& app) {
   CLI::App* c = app.add_subcommand(
       "compare",
       "Render a scene with several methods (fixed seeds, equal kept spp or equal time) and "
-      "write DIR/report.html, report.md, results.json and results.csv against a reference");
+      "write DIR/report.html, report.md, results.json, results.csv and curves.csv (time to "
+      "quality) against a reference");
   addSceneOptions(*c, flags->scene);
   c->add_option("--methods", flags->methods,
                 "Comma-separated NAME[:MODIFIER][@SPP]: NAME in ld, bp, fdiv, fuzzy, gem, "
@@ -366,6 +453,9 @@ void registerCompareCommand(CLI::App& app) {
                 "Give every run this many seconds (open-ended rounds; the round in flight "
                 "finishes) instead of equal kept spp")
       ->check(CLI::Range(0.0, 1e6));
+  c->add_flag("--no-curve", flags->noCurve,
+              "Measure no time-to-quality curve (no checkpoints during the runs, so no "
+              "measuring overhead): results.json has empty curves, curves.csv only its header");
   c->add_option("--crop", flags->crops,
                 "Region x,y,w,h to zoom into (repeatable); default: chosen where the methods "
                 "differ most");
