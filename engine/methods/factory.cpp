@@ -32,6 +32,7 @@ std::vector<MethodParam> erase(const ParamTable<Config>& table) {
 
 const std::vector<MethodParam>& methodParams(MethodKind kind) {
   static const std::vector<MethodParam> none;
+  static const std::vector<MethodParam> ld = erase(ldParams());
   static const std::vector<MethodParam> bp = erase(bpParams());
   static const std::vector<MethodParam> fdiv = erase(fdivParams());
   static const std::vector<MethodParam> fuzzy = erase(fuzzyParams());
@@ -39,7 +40,7 @@ const std::vector<MethodParam>& methodParams(MethodKind kind) {
   static const std::vector<MethodParam> cycles = erase(cyclesParams());
   switch (kind) {
     case MethodKind::Ld:
-      return none;
+      return ld;
     case MethodKind::Bp:
       return bp;
     case MethodKind::FDiv:

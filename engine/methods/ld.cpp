@@ -1,5 +1,7 @@
 #include "methods/ld.h"
 
+#include "methods/film_reconstruction.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -9,16 +11,29 @@ namespace penumbra {
 
 using namespace method;
 
-LdMethod::LdMethod(const PreparedScene& prepared, const RunShape& shape)
+const ParamTable<LdConfig>& ldParams() {
+  static const ParamTable<LdConfig> table = [] {
+    ParamTable<LdConfig> t;
+    t.group("Low discrepancy")
+        .toggle(
+            "filter", "filtered", "Show the consistent reconstruction of the film", "--filter",
+            [](auto& c) -> auto& { return c.filter; })
+        .include(
+            denoiseParams(), [](auto& c) -> auto& { return c.denoise; });
+    return t;
+  }();
+  return table;
+}
+
+LdMethod::LdMethod(const PreparedScene& prepared, const RunShape& shape, const LdConfig& config)
     : prepared_(prepared),
       shape_(shape),
+      config_(config),
       schedule_(shape, 1, 0, kLdBatchRounds),
       width_(prepared.scene.settings.width),
       height_(prepared.scene.settings.height),
       pixelCount_(size_t(width_) * height_),
-      mean_(pixelCount_, glm::dvec3(0.0)),
-      m2_(pixelCount_, glm::dvec3(0.0)),
-      count_(pixelCount_, 0) {
+      film_(width_, height_) {
   if (const std::string problem = shape.validate(); !problem.empty())
     throw std::invalid_argument(problem);
   start_ = Clock::now();
@@ -31,28 +46,29 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
   const uint32_t last = first + uint32_t(schedule_.roundBudget(drawn_, rounds_));
   // A batch run's set is its spp; the open-ended stream uses blocks of 64.
   const uint32_t setSize = shape_.openEnded ? 64u : uint32_t(shape_.spp);
+  updatePixelErrors(cancel);
+  const float threshold = shape_.noiseThreshold;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (cancel && cancel->load(std::memory_order_relaxed)) return;
                       TraceChunk chunk(counters_, shape_.sampler, shape_.seed, setSize);
                       PixelSampler& sampler = chunk.sampler;
                       for (size_t p = range.begin(); p < range.end(); ++p) {
+                        // Below the noise threshold: converged, no more samples.
+                        if (!pixelError_.empty() && pixelError_[p] < threshold) continue;
                         const int px = int(p % width_), py = int(p / width_);
                         for (uint32_t i = first; i < last; ++i) {
                           sampler.startSample(px, py, i);
+                          PathFeatures features;
                           const vec3 L = traceRadiance(
                               prepared_,
                               sampler.cameraSample(prepared_.usesLens, prepared_.usesTime), sampler,
-                              chunk.counters);
+                              chunk.counters, &features);
                           if (!isFinite(L)) {
                             ++chunk.nonFinite;
                             continue;
                           }
-                          // Welford's running mean and variance, in sample order.
-                          ++count_[p];
-                          const glm::dvec3 d = glm::dvec3(L) - mean_[p];
-                          mean_[p] += d / double(count_[p]);
-                          m2_[p] += d * (glm::dvec3(L) - mean_[p]);
+                          film_[p].add(L, features);  // in sample order
                         }
                       }
                     });
@@ -63,45 +79,73 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
   times_.trace += secondsSince(start);
 }
 
-size_t LdMethod::memoryBytes() const {
-  return (mean_.capacity() + m2_.capacity()) * sizeof(glm::dvec3) +
-         count_.capacity() * sizeof(uint32_t);
+void LdMethod::updatePixelErrors(const std::atomic<bool>* cancel) {
+  if (!(shape_.noiseThreshold > 0) || rounds_ == 0) return;
+  if (!config_.filter) {
+    pixelError_ = rawRelativeError(film_);
+    return;
+  }
+  // The filtered estimate is redone once the samples grew 1.5x; in between it falls as 1/n.
+  if (pixelError_.empty() || double(drawn_) >= 1.5 * double(drawnAtError_)) {
+    const auto start = Clock::now();
+    recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
+    times_.reconstruct += secondsSince(start);
+    errorAtReconstruction_ = relativeError(r, film_);
+    countAtReconstruction_.resize(pixelCount_);
+    for (size_t p = 0; p < pixelCount_; ++p) countAtReconstruction_[p] = film_[p].count;
+    drawnAtError_ = drawn_;
+  }
+  pixelError_.resize(pixelCount_);
+  for (size_t p = 0; p < pixelCount_; ++p)
+    pixelError_[p] = errorAtReconstruction_[p] * float(std::max(1u, countAtReconstruction_[p])) /
+                     float(std::max(1u, film_[p].count));
 }
 
-Image LdMethod::varianceOfMean() const {
-  Image v(width_, height_);
-  for (size_t p = 0; p < pixelCount_; ++p) {
-    const uint32_t n = count_[p];
-    v.pixels[p] = n > 1 ? vec3(m2_[p] / (double(n - 1) * n)) : vec3(0.0f);
-  }
-  return v;
+double LdMethod::estimatedError() const {
+  if (rounds_ == 0) return NAN;
+  if (!pixelError_.empty()) return meanOf(pixelError_);
+  return config_.filter ? NAN : meanOf(rawRelativeError(film_));
 }
+
+size_t LdMethod::memoryBytes() const { return film_.memoryBytes(); }
+
+Image LdMethod::varianceOfMean() const { return film_.varianceOfMeanImage(); }
 
 PixelInspection LdMethod::inspect(int x, int y) const {
   PixelInspection in = startInspection(x, y, width_, height_, rounds_, "ld");
   if (!in.valid) return in;
   const size_t p = size_t(y) * width_ + x;
-  in.estimate = vec3(mean_[p]);
-  in.kept = count_[p];
+  in.estimate = vec3(film_[p].mean);
+  in.kept = film_[p].count;
   in.traced = drawn_;
   in.addedLastRound = lastAdded_;
   in.reason = "low-discrepancy sampling: every pixel gets the same samples each round";
   return in;
 }
 
-std::shared_ptr<Snapshot> LdMethod::snapshot(bool, const std::atomic<bool>*) {
+std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
+                                             const std::atomic<bool>* cancel) {
   auto snap = std::make_shared<Snapshot>();
-  snap->method = "ld";
+  snap->method = config_.filter ? "ld:filtered" : "ld";
   snap->round = rounds_;
   snap->final = done();
   snap->width = width_;
   snap->height = height_;
-  snap->raw = Image(width_, height_);
-  for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = vec3(mean_[p]);
+  snap->raw = film_.meanImage();
   snap->reconstructed = snap->raw;
+  if (config_.filter && reconstructImage && rounds_ > 0) {
+    const auto start = Clock::now();
+    recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
+    addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
+    snap->reconstructed = std::move(r.output);
+    times_.reconstruct += secondsSince(start);
+  }
+  addFilmMaps(*snap, film_);
   addSelectedMap(*snap, std::vector<uint8_t>(pixelCount_, 1));
-  addSampleCountMaps(*snap, count_, std::vector<uint32_t>(pixelCount_, drawn_));
-  for (uint32_t c : count_) snap->keptSamples += c;
+  std::vector<uint32_t> kept(pixelCount_);
+  for (size_t p = 0; p < pixelCount_; ++p) kept[p] = film_[p].count;
+  addSampleCountMaps(*snap, kept, std::vector<uint32_t>(pixelCount_, drawn_));
+  for (uint32_t c : kept) snap->keptSamples += c;
   snap->tracedSamples = uint64_t(drawn_) * pixelCount_;
   snap->rays = counters_.rays;
   snap->nonFiniteSamples = counters_.nonFinite;
@@ -111,8 +155,8 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool, const std::atomic<bool>*) {
 }
 
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
-                                                const RunShape& shape, const LdConfig&) {
-  return std::make_unique<LdMethod>(prepared, shape);
+                                                const RunShape& shape, const LdConfig& config) {
+  return std::make_unique<LdMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

@@ -5,7 +5,10 @@
 #pragma once
 
 #include "methods/common.h"
+#include "methods/film.h"
+#include "methods/params.h"
 #include "methods/progressive.h"
+#include "methods/recon/denoise.h"
 #include "methods/run_shape.h"
 #include "methods/schedule.h"
 #include "trace/integrator.h"
@@ -17,8 +20,14 @@
 
 namespace penumbra {
 
-// LD has no parameters of its own: the run's shape says everything.
-struct LdConfig {};
+// LD samples every pixel alike; its one choice is whether the image it shows is the box
+// filter's mean or the consistent reconstruction of its film (`ld:filtered`, the ablation
+// that separates what adaptive sampling adds from what the filter adds).
+struct LdConfig {
+  bool filter = false;
+  recon::DenoiseConfig denoise;
+};
+const ParamTable<LdConfig>& ldParams();
 
 // A batch run spreads its spp over this many rounds (fewer when spp is smaller), so that a
 // long render reports progress and can be cancelled between rounds; the image does not
@@ -28,15 +37,19 @@ constexpr int kLdBatchRounds = 16;
 class LdMethod final : public ProgressiveMethod {
  public:
   // Throws std::invalid_argument on a bad shape; the scene must outlive the method.
-  LdMethod(const PreparedScene& prepared, const RunShape& shape);
+  LdMethod(const PreparedScene& prepared, const RunShape& shape, const LdConfig& config = {});
 
   void runRound(const std::atomic<bool>* cancel) override;
-  bool done() const override { return schedule_.finished(drawn_); }
+  bool done() const override {
+    return schedule_.finished(drawn_) || stoppedByRule(shape_, method::secondsSince(start_));
+  }
   int roundsDone() const override { return rounds_; }
   size_t memoryBytes() const override;
   PixelInspection inspect(int x, int y) const override;
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
                                      const std::atomic<bool>* cancel) override;
+  double estimatedError() const override;
+  Image rawVarianceOfMean() const override { return varianceOfMean(); }
   // Samples every pixel has drawn so far.
   uint32_t samplesPerPixel() const { return drawn_; }
   // Per channel: the unbiased sample variance of each pixel over its sample count.
@@ -45,11 +58,17 @@ class LdMethod final : public ProgressiveMethod {
  private:
   const PreparedScene& prepared_;
   RunShape shape_;
+  LdConfig config_;
   RoundSchedule schedule_;  // per pixel: every pixel gets the same samples
   int width_, height_;
   size_t pixelCount_;
-  std::vector<glm::dvec3> mean_, m2_;  // Welford's running mean and squared deviations
-  std::vector<uint32_t> count_;
+  Film film_;
+  // With a noise threshold: each pixel's estimated relMSE, and the filtered estimate it
+  // follows (made at drawnAtError_ samples).
+  std::vector<float> pixelError_, errorAtReconstruction_;
+  std::vector<uint32_t> countAtReconstruction_;
+  uint32_t drawnAtError_ = 0;
+  void updatePixelErrors(const std::atomic<bool>* cancel);
   uint32_t drawn_ = 0;
   uint32_t lastAdded_ = 0;
   int rounds_ = 0;

@@ -146,6 +146,13 @@ class ParamTable {
           b, [](auto& c) -> auto& { return c; }));
     return *this;
   }
+  // Every entry of `other`, whose configuration is the member `part(config)` of this one
+  // (e.g. a method's filter parameters); they keep their own group.
+  template <typename Part, typename Member>
+  ParamTable& include(const ParamTable<Part>& other, Member member) {
+    for (const Param<Part>& b : other.params()) params_.push_back(rebindParam<Config>(b, member));
+    return *this;
+  }
   const std::vector<Param<Config>>& params() const { return params_; }
 
  private:

@@ -5,9 +5,11 @@
 #pragma once
 
 #include "core/image.h"
+#include "methods/run_shape.h"
 #include "methods/snapshot.h"
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -103,6 +105,21 @@ class ProgressiveMethod {
   // discards the snapshot.
   virtual std::shared_ptr<Snapshot> snapshot(bool reconstructImage = true,
                                              const std::atomic<bool>* cancel = nullptr) = 0;
+  // Per channel, the variance of each pixel's raw estimate (before any filter), for methods
+  // whose film knows it; empty otherwise.
+  virtual Image rawVarianceOfMean() const { return {}; }
+  // The mean over pixels of the estimated relMSE of the image the user gets (filtered, for a
+  // method that filters), for the noise threshold; NaN for a method without an estimate.
+  virtual double estimatedError() const { return NAN; }
+  // Whether the run's stopping rules (RunShape::timeLimit, noiseThreshold) end it now.
+  bool stoppedByRule(const RunShape& shape, double seconds) const {
+    if (shape.timeLimit > 0 && seconds >= shape.timeLimit) return true;
+    if (shape.noiseThreshold > 0 && roundsDone() > 0) {
+      const double e = estimatedError();
+      return e == e && e < shape.noiseThreshold;
+    }
+    return false;
+  }
   // Bytes held for per-pixel state (samples, networks, accumulators).
   virtual size_t memoryBytes() const = 0;
   // The pixel whose candidates the next rounds record for inspect(); -1, -1 for none.

@@ -1,5 +1,7 @@
 #include "methods/run_shape.h"
 
+#include <cmath>
+
 namespace penumbra {
 
 RunShape RunShape::batch(int spp, uint64_t seed) {
@@ -22,6 +24,10 @@ std::string RunShape::validate() const {
   if (!openEnded && spp < 1) return "--spp must be at least 1";
   if (openEnded && roundSpp < 1) return "--round-spp must be at least 1";
   if (maxSpp < 0) return "the maximum spp must not be negative";
+  if (!(timeLimit >= 0) || std::isinf(timeLimit))
+    return "--time-limit must be a finite number of seconds, at least 0";
+  if (!(noiseThreshold >= 0) || std::isinf(noiseThreshold))
+    return "--noise-threshold must be a finite relMSE, at least 0";
   return {};
 }
 

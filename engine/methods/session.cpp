@@ -13,6 +13,11 @@
 namespace penumbra {
 
 namespace {
+// Seconds between two published snapshots of a running method, at least.
+constexpr double kMinPublishInterval = 0.2;
+}  // namespace
+
+namespace {
 
 // Lowers the priority of the calling thread only (Linux: setpriority on a thread id).
 void lowerThreadPriority() { setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 10); }
@@ -181,6 +186,10 @@ void RenderSession::worker() {
       ++inspectionVersion_;
     }
   };
+  // When the last snapshot was published, and what it cost (the publishing rule below).
+  bool publishedOnce = false;
+  std::chrono::steady_clock::time_point lastPublish{};
+  double lastSnapshotCost = 0;
   std::unique_lock lock(mutex_);
   while (true) {
     wake_.wait(lock,
@@ -203,6 +212,7 @@ void RenderSession::worker() {
     MethodFactory factory = factory_;
     cancelRound_ = false;
     const int inspectX = inspectX_, inspectY = inspectY_;
+    const int stepsLeft = stepsLeft_;
     lock.unlock();
 
     std::shared_ptr<Snapshot> snapshot;
@@ -215,11 +225,29 @@ void RenderSession::worker() {
         activeFactory = std::move(factory);
         method = activeFactory();
         methodGeneration = generation;
+        publishedOnce = false;
+        lastSnapshotCost = 0;
       }
       method->setInspectedPixel(inspectX, inspectY);
+      const bool stepping = stepsLeft > 0;
       arena.execute([&] {
         method->runRound(&cancelRound_);
-        if (!cancelRound_) snapshot = method->snapshot(true, &cancelRound_);
+        if (cancelRound_) return;
+        // A reconstruction costs far more than a short round: publish (and reconstruct) the
+        // first round, the last, a stepped one, and otherwise at most a few times a second and
+        // never more often than the last snapshot's own cost allows (it stays below tracing).
+        const double sincePublish =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - lastPublish).count();
+        const bool due = !publishedOnce || stepping || method->done() ||
+                         sincePublish >= std::max(kMinPublishInterval, lastSnapshotCost);
+        if (!due) return;
+        const auto snapshotStart = std::chrono::steady_clock::now();
+        snapshot = method->snapshot(true, &cancelRound_);
+        lastSnapshotCost =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - snapshotStart)
+                .count();
+        lastPublish = std::chrono::steady_clock::now();
+        publishedOnce = true;
         if (cancelRound_) snapshot.reset();  // cut short: it belongs to the old method
       });
       if (snapshot && inspectX >= 0)

@@ -38,6 +38,12 @@ enum class MapId : uint8_t {
   Prediction,  // I', the network's prediction, tone-mapped RGB (BP)
   SliceB,      // the slice B the last round chose, -1 for none (BP)
   SliceC,      // the slice C the last round chose, -1 for none (BP)
+  // The film's first-hit features and buffers (methods/film.h), for methods that filter:
+  Albedo,    // mean albedo at the first non-specular hit, linear RGB
+  Normal,    // mean shading normal there, shown as 0.5 + 0.5 n
+  Depth,     // mean distance to it over the image's mean
+  Emission,  // directly seen emission, linear RGB
+  RawError,  // estimated relative squared error of the unfiltered pixel mean
 };
 
 // How a map's values become colours.

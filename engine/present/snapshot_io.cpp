@@ -33,11 +33,33 @@ std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapsho
   };
   image("raw", snap.raw);
   image("reconstructed", snap.reconstructed);
+  // Every image and map again as the layers of one EXR, so that tev shows them together:
+  // "raw.R", "albedo.G", "samples.Y", ...
+  std::vector<ExrChannel> layers;
+  const size_t pixels = size_t(snap.width) * size_t(snap.height);
+  auto rgbLayer = [&](const std::string& name, const float* values, size_t stride) {
+    const char* channel[3] = {".R", ".G", ".B"};
+    for (size_t k = 0; k < 3; ++k) {
+      std::vector<float> plane(pixels);
+      for (size_t p = 0; p < pixels; ++p) plane[p] = values[p * stride + k];
+      layers.emplace_back(name + channel[k], std::move(plane));
+    }
+  };
+  if (!snap.raw.empty()) rgbLayer("raw", &snap.raw.pixels[0].x, 3);
+  if (!snap.reconstructed.empty()) rgbLayer("reconstructed", &snap.reconstructed.pixels[0].x, 3);
   for (const SnapshotMap& m : snap.maps) {
     const std::string name = mapName(m.id);
     writeDebugMap(dir, name, m.values, snap.width, snap.height, m.label, m.legend);
     written.push_back(name + ".exr");
     written.push_back(name + ".png");
+    if (m.channels() == 3)
+      rgbLayer(name, m.values.data(), 3);
+    else
+      layers.emplace_back(name + ".Y", m.values);
+  }
+  if (!layers.empty() && pixels > 0) {
+    writeExrLayers(dir + "/layers.exr", snap.width, snap.height, layers);
+    written.push_back("layers.exr");
   }
   return written;
 }

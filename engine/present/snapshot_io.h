@@ -12,7 +12,8 @@
 
 namespace penumbra {
 
-// Writes the images and maps the snapshot has, in the snapshot's order; returns the file
+// Writes the images and maps the snapshot has, in the snapshot's order, each as its own file
+// and all together as the layers of layers.exr (raw.R, albedo.G, samples.Y, ...); returns the file
 // names written (relative to dir). Throws ImageIoError naming the file on failure.
 std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapshot& snapshot);
 

@@ -105,7 +105,7 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
 }
 
 vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
-                   PixelSampler& dimensions, PathCounters& counters) {
+                   PixelSampler& dimensions, PathCounters& counters, PathFeatures* features) {
   const Scene& scene = prepared.scene;
   const Accel& accel = *prepared.accel;
   const int maxDepth = scene.settings.maxDepth;
@@ -114,12 +114,17 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   bool specularBounce = false;
   float previousBsdfPdf = 0;
   vec3 previousPoint = ray.origin;
+  // Features: still on the camera's specular chain, and its length so far.
+  bool cameraChain = true;
+  float chainLength = 0;
+  if (features) *features = PathFeatures{};
 
   for (int depth = 0;; ++depth) {
     Hit hit;
     ++counters.rays;
     if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
       radiance += throughput * scene.background;  // background is not light-sampled: weight 1
+      if (features && cameraChain) features->emission += throughput * scene.background;
       break;
     }
     const SurfaceHit surface = surfaceAt(scene, hit, ray.time);
@@ -135,10 +140,20 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
         weight = powerHeuristic(previousBsdfPdf, pl);
       }
       radiance += throughput * material.emission * weight;
+      if (features && cameraChain) features->emission += throughput * material.emission * weight;
     }
     if (depth >= maxDepth) break;
 
     const SurfaceBsdf bsdf = makeBsdf(scene, surface);
+    if (features && cameraChain) {
+      chainLength += hit.t;
+      if (!bsdf.isSpecular()) {
+        features->albedo = throughput * bsdf.color;
+        features->normal = surface.shadingNormal;
+        features->depth = chainLength;
+        cameraChain = false;
+      }
+    }
 
     // Every bounce owns five dimensions (above), drawn only when used and skipped
     // otherwise, so each dimension means the same thing in every path of the pixel.

@@ -36,11 +36,27 @@ struct PathCounters {
   uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays
 };
 
+// What a camera path saw first, for a reconstruction's feature weights (RECONSTRUCTION.md
+// §1), recorded at the first non-specular hit (through mirrors and glass): its reflectance
+// times the specular chain's throughput, shading normal and distance along the path. A
+// path that escapes has albedo 1, normal 0 and depth 0. `emission` is the part of the
+// radiance seen along the camera's specular chain (emitters and background seen directly or
+// in a mirror): a reconstruction adds it back after filtering. Recording them consumes no
+// random numbers and leaves the radiance bit for bit as it is without them.
+struct PathFeatures {
+  vec3 albedo{1.0f};
+  vec3 normal{0.0f};
+  float depth = 0.0f;
+  vec3 emission{0.0f};
+};
+
 // Radiance arriving through `sample`; the integrator's own dimensions come from
 // `dimensions` (already started on this pixel sample). May be non-finite on a
-// numerical failure: callers must check before accumulating.
+// numerical failure: callers must check before accumulating. `features`, when given,
+// receives the path's first-hit features.
 vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
-                   PixelSampler& dimensions, PathCounters& counters);
+                   PixelSampler& dimensions, PathCounters& counters,
+                   PathFeatures* features = nullptr);
 
 // Geometry and material at a hit, at the ray's time.
 struct SurfaceHit {

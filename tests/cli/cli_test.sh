@@ -164,7 +164,25 @@ grep -q '"sigma_c": 0.2' "$work/bpt2.json" && passes=$((passes + 1)) || { echo "
 expect_fail "bad preset" "--preset" "$penumbra" render "$cornell" --method bp --preset best -o "$work/x.png"
 expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --phi 0.3,0.5
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
-expect_fail "aov dir needs an adaptive method" "--aov-dir needs an adaptive --method" "$penumbra" render "$cornell" -o "$work/x.png" --aov-dir "$work/aovx"
+expect_fail "raw out needs a filter" "--raw-out needs a method that filters" "$penumbra" render "$cornell" -o "$work/x.png" --raw-out "$work/rawx.exr"
+expect_fail "variance out needs a film" "--variance-out needs a method with a film" "$penumbra" render "$cornell" --method gem -o "$work/x.png" --variance-out "$work/varx.exr"
+expect_fail "noise threshold needs an estimate" "--noise-threshold: the method gem" "$penumbra" render "$cornell" --method gem --size 16x16 -o "$work/x.png" --noise-threshold 0.01
+# The film's features and buffers: LD's --aov-dir writes them, and every map as one layered EXR.
+expect_ok "ld aov dir" "$penumbra" render "$cornell" --size 16x16 --spp 4 -o "$work/ldaov.exr" --aov-dir "$work/ldaov" -q
+for f in albedo.exr normal.exr depth.exr emission.exr raw_error.exr layers.exr; do
+  [ -f "$work/ldaov/$f" ] && passes=$((passes + 1)) || { echo "FAIL: ld --aov-dir did not write $f"; failures=$((failures + 1)); }
+done
+# The default bp (the consistent preset), the filtered LD ablation and the stopping rules.
+expect_ok "bp consistent with variance" "$penumbra" render "$cornell" --method bp --size 16x16 --spp 16 -o "$work/bpc.exr" --variance-out "$work/bpc_var.exr" --stats "$work/bpc.json" -q
+grep -q '"preset": "consistent"' "$work/bpc.json" && grep -q '"algorithm": "consistent"' "$work/bpc.json" && passes=$((passes + 1)) || { echo "FAIL: bp's default preset is not consistent"; failures=$((failures + 1)); }
+expect_ok "ld filtered" "$penumbra" render "$cornell" --filter --size 16x16 --spp 8 -o "$work/ldf.exr" --raw-out "$work/ldf_raw.exr" -q
+expect_ok "time limit" "$penumbra" render "$cornell" --method bp --size 16x16 --time-limit 0.5 -o "$work/tl.exr" --stats "$work/tl.json" -q
+python3 - "$work/tl.json" <<'PY' && passes=$((passes + 1)) || { echo "FAIL: --time-limit did not stop near 0.5 s"; failures=$((failures + 1)); }
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert 0.5 <= s["time_seconds"] < 5, s["time_seconds"]
+PY
+expect_ok "noise threshold" "$penumbra" render "$cornell" --size 16x16 --noise-threshold 0.02 -o "$work/nt.exr" --stats "$work/nt.json" -q
 expect_fail "unknown method" "--method" "$penumbra" render "$cornell" --method magic -o "$work/x.png"
 
 # The baselines through `render`: statistics, debug maps and the raw estimate.

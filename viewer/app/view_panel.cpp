@@ -90,10 +90,21 @@ bool methodParameters(ViewOptions& o) {
     o.shape.seed = uint64_t(std::max(0, seed));
     changed = true;
   }
+  // Stopping rules (ld and bp's consistent preset): 0 = none.
+  double timeLimit = o.shape.timeLimit;
+  if (ImGui::InputDouble("time limit s", &timeLimit, 0, 0, "%.1f")) {
+    o.shape.timeLimit = std::max(0.0, timeLimit);
+    changed = true;
+  }
+  float noise = o.shape.noiseThreshold;
+  if (ImGui::InputFloat("noise threshold", &noise, 0, 0, "%.4g")) {
+    o.shape.noiseThreshold = std::max(0.0f, noise);
+    changed = true;
+  }
   MethodConfig& config = o.configs[size_t(o.method)];
   if (BpConfig* bp = std::get_if<BpConfig>(&config)) {
-    for (BpPreset preset : {BpPreset::Paper, BpPreset::Tuned}) {
-      if (preset != BpPreset::Paper) ImGui::SameLine();
+    for (BpPreset preset : {BpPreset::Consistent, BpPreset::Paper, BpPreset::Tuned}) {
+      if (preset != BpPreset::Consistent) ImGui::SameLine();
       const std::string label = std::string(toString(preset)) + " preset";
       if (ImGui::Button(label.c_str())) {
         applyBpPreset(*bp, preset);

@@ -37,7 +37,7 @@ namespace {
 struct CompareFlags {
   SceneOptions scene;
   MethodOptions method;
-  std::string methods = "ld,fdiv,fuzzy,gem,bp:tuned";
+  std::string methods = "ld,ld:filtered,fdiv,fuzzy,gem,bp:tuned,bp";
   std::string referencePath, outDir, title;
   std::vector<std::string> crops;
   int spp = 0;  // 0: the scene's
@@ -111,6 +111,8 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
     for (size_t i = 1; i < parts.size(); ++i) {
       if (parts[i] == "raw") {
         e.raw = true;
+      } else if (parts[i] == "filtered" && e.kind == MethodKind::Ld) {
+        e.settings.push_back("filter=1");  // ld:filtered, the reconstruction's ablation
       } else if (parseBpPreset(parts[i]) && e.kind == MethodKind::Bp) {
         e.preset = parseBpPreset(parts[i]);
       } else if (parts[i].find('=') != std::string::npos) {
@@ -120,7 +122,8 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
         e.settings.push_back(parts[i]);
       } else {
         throw CommandError("--methods: unknown modifier '" + parts[i] + "' in '" + item +
-                           "' (raw for any method; paper, tuned for bp; NAME=VALUE for any of "
+                           "' (raw for any method; consistent, paper, tuned for bp; filtered for "
+                           "ld; NAME=VALUE for any of "
                            "the method's parameters)");
       }
     }
@@ -434,7 +437,8 @@ void registerCompareCommand(CLI::App& app) {
   addSceneOptions(*c, flags->scene);
   c->add_option("--methods", flags->methods,
                 "Comma-separated NAME[:MODIFIER][@SPP]: NAME in ld, bp, fdiv, fuzzy, gem, "
-                "cycles; modifiers paper/tuned (bp presets), raw (before reconstruction); "
+                "cycles; modifiers consistent/paper/tuned (bp presets), filtered (ld with the "
+                "consistent reconstruction), raw (before reconstruction); "
                 "@SPP overrides --spp, e.g. ld,gem,bp:tuned,ld@64")
       ->capture_default_str();
   c->add_option("--reference", flags->referencePath,

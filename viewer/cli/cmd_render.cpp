@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -32,6 +34,8 @@ struct RenderFlags {
   float exposure = 0;
   std::string samplerName = "ld";
   bool quiet = false;
+  double timeLimit = 0;
+  float noiseThreshold = 0;
   SamplerKind sampler() const {
     return samplerName == "independent" ? SamplerKind::Independent : SamplerKind::LowDiscrepancy;
   }
@@ -86,12 +90,16 @@ void prepareOutputs(const RenderFlags& flags) {
   checkImageExtension("--output", flags.output);
   if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
   if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
-  if (flags.method.kind() == MethodKind::Ld) {
-    if (!flags.rawPath.empty()) throw CommandError("--raw-out needs an adaptive --method");
-    if (!flags.aovDir.empty()) throw CommandError("--aov-dir needs an adaptive --method");
-  } else if (!flags.variancePath.empty()) {
-    throw CommandError("--variance-out is only available with --method ld");
-  }
+  const MethodSpec spec = flags.method.spec(RunShape::batch(16));
+  const bool hasFilm =
+      spec.kind() == MethodKind::Ld ||
+      (spec.get<BpConfig>() && spec.get<BpConfig>()->algorithm == BpAlgorithm::Consistent);
+  const bool filters = spec.kind() != MethodKind::Ld || spec.get<LdConfig>()->filter;
+  if (!filters && !flags.rawPath.empty())
+    throw CommandError("--raw-out needs a method that filters (an adaptive --method, or --filter)");
+  if (!hasFilm && !flags.variancePath.empty())
+    throw CommandError(
+        "--variance-out needs a method with a film: --method ld, or bp with its consistent preset");
   for (const std::string* path :
        {&flags.output, &flags.statsPath, &flags.variancePath, &flags.rawPath})
     if (!path->empty()) createParentDirectory(*path);
@@ -214,6 +222,12 @@ void writeProgressiveStats(const std::string& path, const RenderFlags& flags, co
 void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int threads) {
   const Scene& s = prepared.scene;
   RunShape shape = RunShape::batch(s.settings.spp, flags.seed);
+  if (flags.timeLimit > 0 || flags.noiseThreshold > 0) {
+    // Open-ended rounds of 1 spp until a rule stops them; an explicit --spp caps them.
+    shape = RunShape::progressive(1, flags.seed, flags.scene.spp.value_or(0));
+    shape.timeLimit = flags.timeLimit;
+    shape.noiseThreshold = flags.noiseThreshold;
+  }
   shape.sampler = flags.sampler();
   const MethodSpec spec = flags.method.spec(shape);
   std::unique_ptr<tbb::global_control> limit;
@@ -230,7 +244,15 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   std::vector<nlohmann::json> rounds;
   const double pixels = double(s.settings.width) * s.settings.height;
   const bool wantRounds = !flags.statsPath.empty();
-  while (!method->done()) {
+  if (shape.noiseThreshold > 0 && shape.timeLimit <= 0 && spec.kind() != MethodKind::Ld &&
+      !(spec.get<BpConfig>() && spec.get<BpConfig>()->algorithm == BpAlgorithm::Consistent))
+    throw CommandError(std::string("--noise-threshold: the method ") + toString(spec.kind()) +
+                       " has no error estimate to stop on; give --time-limit or --spp instead");
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  while (!method->done() && !method->stoppedByRule(shape, seconds())) {
     method->runRound(nullptr);
     if (wantRounds) {
       const auto snap = method->snapshot(false);
@@ -253,7 +275,12 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
       }
       rounds.push_back(round);
     }
-    if (!flags.quiet) bar.update(std::min(1.0, double(method->roundsDone()) / (maxRounds + 1)));
+    if (!flags.quiet) {
+      if (shape.timeLimit > 0)
+        bar.update(std::min(1.0, seconds() / shape.timeLimit));
+      else if (!shape.openEnded)
+        bar.update(std::min(1.0, double(method->roundsDone()) / (maxRounds + 1)));
+    }
   }
   const auto snap = method->snapshot();
   bar.finish();
@@ -261,6 +288,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   // A method without a reconstruction publishes its raw estimate as the reconstruction.
   writeImage(flags.output, snap->reconstructed, flags.exposure);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
+  if (!flags.variancePath.empty()) writeImage(flags.variancePath, method->rawVarianceOfMean());
   if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap);
   if (!flags.statsPath.empty())
     writeProgressiveStats(flags.statsPath, flags, s, spec, *snap, rounds, method->memoryBytes(),
@@ -278,7 +306,11 @@ void run(const RenderFlags& flags) {
   auto prepared = prepareScene(std::move(scene));
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  if (flags.method.kind() == MethodKind::Ld)
+  const MethodSpec spec = flags.method.spec(RunShape::batch(prepared->scene.settings.spp));
+  const bool plainLd = spec.kind() == MethodKind::Ld && !spec.get<LdConfig>()->filter;
+  // Plain LD renders through renderImage (the same image as its method), unless it needs the
+  // method's maps or stopping rules.
+  if (plainLd && flags.timeLimit <= 0 && flags.noiseThreshold <= 0 && flags.aovDir.empty())
     runLd(flags, *prepared, threads);
   else
     runProgressive(flags, *prepared, threads);
@@ -308,6 +340,15 @@ void registerRenderCommand(CLI::App& app) {
       ->required();
   c->add_option("--seed", flags->seed,
                 "Random seed; the image is the same for a seed whatever the thread count");
+  c->add_option("--time-limit", flags->timeLimit,
+                "Stop after the round in which this many seconds have passed (open-ended rounds; "
+                "--spp, when given, still caps them). Such a run need not be deterministic")
+      ->check(CLI::Range(0.0, 1e9));
+  c->add_option("--noise-threshold", flags->noiseThreshold,
+                "Stop once the image's mean estimated relMSE (of the filtered image, for a method "
+                "that filters) is below this; pixels below it get no more samples (ld, "
+                "ld --filter, bp's consistent preset)")
+      ->check(CLI::Range(0.0, 1e9));
   c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   c->add_option("--exposure", flags->exposure, "Exposure in stops applied to PNG output")

@@ -404,7 +404,7 @@ void registerViewCommand(CLI::App& app) {
   // An artist opening a scene gets the adaptive method in its measured-best configuration;
   // --preset paper and --method ld are one flag away.
   flags->method.method = MethodKind::Bp;
-  flags->method.preset = BpPreset::Tuned;
+  flags->method.preset = BpPreset::Consistent;
   CLI::App* c = app.add_subcommand(
       "view", "Open the progressive viewer (a window; headless screenshots with --headless)");
   addSceneOptions(*c, flags->scene);

@@ -6,8 +6,8 @@ namespace penumbra {
 
 namespace {
 
-constexpr MethodKind kWithParameters[] = {MethodKind::Bp, MethodKind::FDiv, MethodKind::Fuzzy,
-                                          MethodKind::Gem, MethodKind::Cycles};
+constexpr MethodKind kWithParameters[] = {MethodKind::Bp,    MethodKind::Ld,  MethodKind::FDiv,
+                                          MethodKind::Fuzzy, MethodKind::Gem, MethodKind::Cycles};
 
 std::string joined(const std::vector<std::string>& values) {
   std::string s;
@@ -28,10 +28,13 @@ void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>
       ->default_str(toString(o.method));
   c.add_option_function<std::string>(
        "--preset", [&o](const std::string& name) { o.preset = *parseBpPreset(name); },
-       "BP configuration: paper (ALGORITHM.md's recommendations, the defaults below) or "
-       "tuned (our measured improvement: no candidate choice, no warping, plain mean, "
-       "--sigma-c 0.05; explicit flags still apply)")
-      ->check(CLI::IsMember({toString(BpPreset::Paper), toString(BpPreset::Tuned)}))
+       "BP configuration: consistent (the default: consistent reconstruction of the film, "
+       "samples where its estimated error falls most, the networks steering them), paper "
+       "(ALGORITHM.md's recommendations, the defaults below) or tuned (the paper's rounds "
+       "without candidate choice or warping, plain mean, --sigma-c 0.05); explicit flags "
+       "still apply")
+      ->check(CLI::IsMember(
+          {toString(BpPreset::Consistent), toString(BpPreset::Paper), toString(BpPreset::Tuned)}))
       ->default_str(toString(o.preset));
 
   // One flag per parameter name; the first method that has it describes it.

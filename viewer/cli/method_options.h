@@ -16,7 +16,7 @@ namespace penumbra {
 
 struct MethodOptions {
   MethodKind method = MethodKind::Ld;
-  BpPreset preset = BpPreset::Paper;
+  BpPreset preset = BpPreset::Consistent;
 
   // A parameter flag as given on the command line.
   struct Given {

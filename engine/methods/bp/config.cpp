@@ -2,6 +2,7 @@
 #include "methods/bp/config.h"
 
 #include "methods/bp/slices.h"
+#include "methods/film_reconstruction.h"
 
 #include <algorithm>
 
@@ -10,6 +11,8 @@ namespace penumbra {
 int BpConfig::effectiveCoarseSpp(const RunShape& shape) const {
   if (coarseSpp > 0) return coarseSpp;
   if (shape.openEnded) return 4;
+  if (algorithm == BpAlgorithm::Consistent)  // an eighth: allocation has more to spend
+    return std::min(shape.spp, std::max(4, int(roundUpPowerOfTwo(uint32_t(shape.spp / 8)))));
   const int quarter = int(roundUpPowerOfTwo(uint32_t(std::max(1, shape.spp / 4))));
   return std::min(shape.spp, std::max(4, quarter));
 }
@@ -46,6 +49,11 @@ std::string BpConfig::validate(const RunShape& shape) const {
     if (!(a > 0)) return bad("--alphas must be positive");
   if (filter.radius < 0 || filter.radius > 32) return bad("--radius must be in 0..32");
   if (!(filter.sigmaC > 0)) return bad("--sigma-c must be positive");
+  if (!(retrainGrowth >= 1)) return bad("--retrain-growth must be at least 1");
+  if (!(networkWeight >= 0)) return bad("--network-weight must be at least 0");
+  if (!(allocation.floorFraction >= 0 && allocation.floorFraction <= 1))
+    return bad("--sample-floor must be in 0..1");
+  if (const std::string problem = recon::validate(denoise); !problem.empty()) return problem;
   if (filter.secondPassAlpha < 0 || filter.secondPassAlpha >= int(filter.alphas.size()))
     return bad("the second pass alpha index is out of range");
   return {};
@@ -54,17 +62,29 @@ std::string BpConfig::validate(const RunShape& shape) const {
 void applyBpPreset(BpConfig& config, BpPreset preset) {
   const BpConfig paper;
   const bool tuned = preset == BpPreset::Tuned;
+  config.algorithm = preset == BpPreset::Consistent ? BpAlgorithm::Consistent : paper.algorithm;
   config.outlierRemoval = tuned ? false : paper.outlierRemoval;
   config.warping = tuned ? false : paper.warping;
   config.stratifiedMean = tuned ? false : paper.stratifiedMean;
   config.filter.sigmaC = tuned ? 0.05f : paper.filter.sigmaC;
 }
 
-const char* toString(BpPreset preset) { return preset == BpPreset::Tuned ? "tuned" : "paper"; }
+const char* toString(BpPreset preset) {
+  switch (preset) {
+    case BpPreset::Paper:
+      return "paper";
+    case BpPreset::Tuned:
+      return "tuned";
+    case BpPreset::Consistent:
+      return "consistent";
+  }
+  return "?";
+}
 
 std::optional<BpPreset> parseBpPreset(std::string_view name) {
   if (name == "paper") return BpPreset::Paper;
   if (name == "tuned") return BpPreset::Tuned;
+  if (name == "consistent") return BpPreset::Consistent;
   return std::nullopt;
 }
 
@@ -137,6 +157,23 @@ const ParamTable<BpConfig>& bpParams() {
         .integer("reservoir", "reservoir",
                  "Samples kept per pixel for training and candidate scoring (bounds memory)",
                  [](auto& c) -> auto& { return c.reservoir; }, 1, 1 << 16, {4, 256});
+    t.group("BP method: consistent algorithm")
+        .choice<BpAlgorithm>("algorithm", "algorithm",
+                             "paper: ALGORITHM.md's rounds and bilateral filterbank; consistent: "
+                             "the film's consistent reconstruction and allocation by its error",
+                             [](auto& c) -> auto& { return c.algorithm; }, {"paper", "consistent"})
+        .real("retrain-growth", "retrain growth",
+              "Consistent: retrain a pixel's network once its samples grew by this factor",
+              [](auto& c) -> auto& { return c.retrainGrowth; }, 1, 1e6, {1, 4})
+        .real("network-weight", "network weight",
+              "Consistent: a pixel's estimated error is scaled by 1 + this x its network bias "
+              "(0: the networks are not used)",
+              [](auto& c) -> auto& { return c.networkWeight; }, 0, 1e6, {0, 8})
+        .real("sample-floor", "sample floor",
+              "Consistent: every pixel keeps at least this share of the mean sample count",
+              [](auto& c) -> auto& { return c.allocation.floorFraction; }, 0, 1, {0, 1})
+        .include(
+            denoiseParams(), [](auto& c) -> auto& { return c.denoise; });
     t.group("BP method: ablations (ALGORITHM.md section 12)")
         .choice<TargetMode>("targets", "targets",
                             "Training targets: per-sample (each sample's tone-mapped radiance) or "

@@ -4,7 +4,9 @@
 
 #include "methods/bp/network.h"
 #include "methods/bp/reconstruct.h"
+#include "methods/error_allocation.h"
 #include "methods/params.h"
+#include "methods/recon/denoise.h"
 #include "methods/run_shape.h"
 
 #include <cstdint>
@@ -16,6 +18,9 @@ namespace penumbra {
 
 enum class TargetMode { PerSample, PixelMean };  // §4.3 [A8]
 enum class CandidateMode { Traced, Predicted };  // §7.2 [A16]: (B) trace all, (A) network
+// paper: the method of ALGORITHM.md (method.cpp); consistent: the film, the consistent
+// reconstruction and allocation by its estimated error, the networks steering it (consistent.cpp).
+enum class BpAlgorithm { Paper, Consistent };
 
 // Everything but the run's shape (methods/run_shape.h).
 struct BpConfig {
@@ -39,6 +44,12 @@ struct BpConfig {
   bool reconstruct = true;
   FilterConfig filter;
   int reservoir = 64;  // samples kept per pixel for training and eq. 16
+  // The consistent algorithm:
+  BpAlgorithm algorithm = BpAlgorithm::Paper;
+  recon::DenoiseConfig denoise;
+  float retrainGrowth = 1.5f;  // retrain a network once its pixel's samples grew this much
+  float networkWeight = 1.0f;  // a pixel's error is scaled by 1 + weight x its network bias
+  ErrorAllocation allocation;
 
   int effectiveCoarseSpp(const RunShape& shape) const;
   // Empty when valid for a run of this shape, else a message naming the offending parameter.
@@ -48,13 +59,15 @@ struct BpConfig {
 // Every parameter above, for the command line, the panel, the stats and compare's labels.
 const ParamTable<BpConfig>& bpParams();
 
-// Named configurations. Paper: ALGORITHM.md's recommended resolutions (the defaults of
-// BpConfig). Tuned: our deviation, measured in docs/RESULTS.md to beat low-discrepancy
+// Named configurations. Consistent (the default of `--method bp`): the film's consistent
+// reconstruction, allocation by its estimated error and the networks' bias as the indicator
+// of sub-pixel structure (consistent.cpp). Paper: ALGORITHM.md's recommended resolutions (the
+// defaults of BpConfig). Tuned: our deviation, measured in docs/RESULTS.md to beat low-discrepancy
 // sampling on the four paper scenes: no best-of-N candidate choice (it biases towards the
 // slice's majority value), no warping, the plain pixel mean (the stratified mean of few
 // samples per slice loses the lens/time stratification) and a tighter range falloff
 // sigma_c = 0.05 (0.3 blurs texture).
-enum class BpPreset { Paper, Tuned };
+enum class BpPreset { Paper, Tuned, Consistent };
 void applyBpPreset(BpConfig& config, BpPreset preset);
 const char* toString(BpPreset preset);
 std::optional<BpPreset> parseBpPreset(std::string_view name);

@@ -5,6 +5,7 @@
 #include "methods/bp/method.h"
 
 #include "core/rng.h"
+#include "methods/bp/consistent.h"
 #include "methods/bp/state.h"
 
 #include <tbb/blocked_range.h>
@@ -409,6 +410,8 @@ void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
 
 std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
                                                 const RunShape& shape, const BpConfig& config) {
+  if (config.algorithm == BpAlgorithm::Consistent)
+    return bp::makeConsistentMethod(prepared, shape, config);
   return std::make_unique<bp::BpMethod>(prepared, shape, config);
 }
 

@@ -1,0 +1,387 @@
+// BP's consistent algorithm (BpAlgorithm::Consistent, the `consistent` preset and the default
+// of `--method bp`; RECONSTRUCTION.md):
+//  - every traced sample goes into the film (methods/film.h): mean, variance, half buffers,
+//    first-hit features and directly seen emission;
+//  - the image is the film's consistent reconstruction (methods/recon/denoise.h), whose chosen
+//    filter tends to the identity as samples accumulate;
+//  - each round's samples go where the reconstruction's estimated relative error falls most
+//    (methods/error_allocation.h), at every spp, with a floor that keeps every pixel sampled;
+//  - the per-pixel networks are trained on the pixel's reservoir, and retrained only once its
+//    sample count has grown by `retrainGrowth`; where a network's prediction departs from the
+//    pixel's mean (the bias of eq. 13, sub-pixel structure the filter must not smooth) the
+//    pixel's error counts (1 + networkWeight x bias) times more.
+// A pixel's samples are the next ones of its own low-discrepancy stream, uniform over the
+// pixel, so its mean is unbiased whatever count the allocation gives it; with every pixel
+// given the same count the samples are exactly LD's.
+#include "methods/bp/consistent.h"
+
+#include "core/rng.h"
+#include "methods/bp/error_estimate.h"
+#include "methods/bp/state.h"
+#include "methods/bp/trainer.h"
+#include "methods/film_reconstruction.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <stdexcept>
+
+namespace penumbra::bp {
+
+namespace {
+
+using namespace method;
+
+constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;  // as the paper algorithm's networks
+// The reconstruction that steers allocation is redone once the samples grew this much.
+constexpr double kReconstructionGrowth = 1.5;
+
+struct TracedSample {
+  CameraSample camera;
+  vec3 radiance;
+};
+
+class ConsistentMethod final : public ProgressiveMethod {
+ public:
+  ConsistentMethod(const PreparedScene& prepared, const RunShape& shape, const BpConfig& config)
+      : s_((validateOrThrow(shape, config), prepared), shape, config),
+        film_(s_.width, s_.height),
+        trainedAt_(s_.pixelCount, 0),
+        drawn_(s_.pixelCount, 0),
+        errorAtReconstruction_(s_.pixelCount, 0.0f),
+        countAtReconstruction_(s_.pixelCount, 0),
+        setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {}
+
+  void runRound(const std::atomic<bool>* cancel) override {
+    if (done()) return;
+    if (s_.rounds == 0)
+      coarsePass(cancel);
+    else
+      adaptiveRound(cancel);
+    if (cancel && cancel->load()) return;
+    ++s_.rounds;
+  }
+
+  bool done() const override {
+    if (s_.rounds == 0) return false;
+    return s_.schedule.finished(s_.spent) || s_.stalled ||
+           stoppedByRule(s_.shape, secondsSince(s_.start));
+  }
+  int roundsDone() const override { return s_.rounds; }
+  Image rawVarianceOfMean() const override { return film_.varianceOfMeanImage(); }
+  double estimatedError() const override {
+    if (reconstructedAtRound_ < 0) return NAN;
+    double sum = 0;
+    for (size_t p = 0; p < s_.pixelCount; ++p) sum += currentError(p);
+    return sum / double(s_.pixelCount);
+  }
+  size_t memoryBytes() const override {
+    return s_.store.memoryBytes() + s_.nets.capacity() * sizeof(PixelNet) + film_.memoryBytes() +
+           s_.pixelCount * (3 * sizeof(uint32_t) + sizeof(float));
+  }
+  std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
+                                     const std::atomic<bool>* cancel) override;
+  PixelInspection inspect(int x, int y) const override;
+
+ private:
+  static void validateOrThrow(const RunShape& shape, const BpConfig& config) {
+    const std::string problem = config.validate(shape);
+    if (!problem.empty()) throw std::invalid_argument(problem);
+  }
+  bool usesNetworks() const { return s_.config.networkWeight > 0; }
+  void coarsePass(const std::atomic<bool>* cancel);
+  void adaptiveRound(const std::atomic<bool>* cancel);
+  // Traces `count` more samples of pixel p into the film (and, once the tone map is known,
+  // into its reservoir); the coarse pass keeps them in `coarse` instead.
+  void tracePixel(size_t p, uint32_t count, TraceChunk& chunk, std::vector<TracedSample>* coarse);
+  void trainDue(const std::atomic<bool>* cancel);
+  // Refreshes the reconstruction that steers allocation, when the film grew enough.
+  void refreshErrors(const std::atomic<bool>* cancel);
+  // The error each pixel is ranked by now.
+  std::vector<float> allocationError() const;
+  // The filtered pixel's estimated relMSE now: the last estimate, falling as 1/n since.
+  float currentError(size_t p) const {
+    const uint32_t now = std::max<uint32_t>(1, film_[p].count);
+    return errorAtReconstruction_[p] * float(std::max<uint32_t>(1, countAtReconstruction_[p])) /
+           float(now);
+  }
+  float networkFactor(size_t p) const {
+    return usesNetworks() ? 1.0f + s_.config.networkWeight * s_.pixel(p).bias : 1.0f;
+  }
+
+  BpState s_;
+  Film film_;
+  std::vector<uint32_t> trainedAt_;  // kept samples at the network's last training
+  std::vector<uint32_t> drawn_;      // sample indices used from the pixel's stream
+  std::vector<float> errorAtReconstruction_;
+  std::vector<uint32_t> countAtReconstruction_;
+  uint64_t spentAtReconstruction_ = 0;
+  // The last reconstruction, kept for a snapshot taken before the film changes again.
+  std::optional<recon::DenoiseResult> lastReconstruction_;
+  int reconstructedAtRound_ = -1;
+  uint32_t setSize_;
+};
+
+void ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
+                                  std::vector<TracedSample>* coarse) {
+  const PreparedScene& prepared = s_.prepared;
+  const int px = int(p % s_.width), py = int(p / s_.width);
+  PixelState& pixel = s_.pixel(p);
+  for (uint32_t k = 0; k < count; ++k) {
+    chunk.sampler.startSample(px, py, drawn_[p]++);
+    const CameraSample cs = chunk.sampler.cameraSample(prepared.usesLens, prepared.usesTime);
+    PathFeatures features;
+    const vec3 L = traceRadiance(prepared, cs, chunk.sampler, chunk.counters, &features);
+    ++pixel.traced;
+    if (!isFinite(L)) {
+      ++chunk.nonFinite;
+      continue;
+    }
+    film_[p].add(L, features);
+    if (coarse)
+      coarse->push_back({cs, L});
+    else
+      s_.store.keep(p, makeStoredSample(cs, px, py, L, s_.tone, s_.config.slicesPerSide), s_.tone);
+  }
+  pixel.drawn = drawn_[p];
+}
+
+void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
+  const size_t pixelCount = s_.pixelCount;
+  const auto start = Clock::now();
+  std::vector<std::vector<TracedSample>> traced(pixelCount);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      if (s_.cancelled(cancel)) return;
+                      TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, setSize_);
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        if (usesNetworks())
+                          initNetwork(s_.nets[p], s_.config.network,
+                                      hashValues(s_.shape.seed, p, kNetSalt));
+                        tracePixel(p, uint32_t(s_.coarseSpp), chunk, &traced[p]);
+                      }
+                    });
+  if (cancel && cancel->load()) return;
+  s_.tone = toneMapFor(film_.meanImage());
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
+      [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+          const int px = int(p % s_.width), py = int(p / s_.width);
+          for (const TracedSample& t : traced[p])
+            s_.store.keep(
+                p, makeStoredSample(t.camera, px, py, t.radiance, s_.tone, s_.config.slicesPerSide),
+                s_.tone);
+          std::vector<TracedSample>().swap(traced[p]);
+        }
+      });
+  s_.spent = s_.traced = uint64_t(s_.coarseSpp) * pixelCount;
+  s_.kept = 0;
+  for (const PixelState& px : s_.store.pixels) s_.kept += px.kept;
+  std::fill(s_.selected.begin(), s_.selected.end(), uint8_t(1));
+  s_.times.trace += secondsSince(start);
+  trainDue(cancel);
+}
+
+void ConsistentMethod::trainDue(const std::atomic<bool>* cancel) {
+  if (!usesNetworks()) return;
+  const auto start = Clock::now();
+  // Every pixel due this round, in pixel order: one list, so the kernel fills its SIMD lanes
+  // across the whole round.
+  std::vector<uint32_t> due;
+  for (uint32_t p = 0; p < s_.pixelCount; ++p) {
+    const uint32_t kept = s_.pixel(p).kept;
+    if (kept > 0 && (trainedAt_[p] == 0 || double(kept) >= s_.config.retrainGrowth * trainedAt_[p]))
+      due.push_back(p);
+  }
+  if (!due.empty() && trainNetworksOf(s_, due, cancel)) {
+    estimateErrors(s_, due, cancel);
+    for (uint32_t p : due) trainedAt_[p] = s_.pixel(p).kept;
+  }
+  s_.times.train += secondsSince(start);
+}
+
+void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
+  if (reconstructedAtRound_ >= 0 &&
+      double(s_.spent) < kReconstructionGrowth * double(spentAtReconstruction_))
+    return;
+  const auto start = Clock::now();
+  recon::DenoiseResult r = reconstructFilm(film_, s_.config.denoise, cancel);
+  if (cancel && cancel->load()) return;
+  errorAtReconstruction_ = relativeError(r, film_);
+  for (size_t p = 0; p < s_.pixelCount; ++p) countAtReconstruction_[p] = film_[p].count;
+  spentAtReconstruction_ = s_.spent;
+  lastReconstruction_ = std::move(r);
+  reconstructedAtRound_ = s_.rounds;
+  s_.times.reconstruct += secondsSince(start);
+}
+
+std::vector<float> ConsistentMethod::allocationError() const {
+  std::vector<float> e(s_.pixelCount);
+  for (size_t p = 0; p < s_.pixelCount; ++p) e[p] = currentError(p) * networkFactor(p);
+  return smooth3x3(e, s_.width, s_.height);
+}
+
+void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
+  const size_t pixelCount = s_.pixelCount;
+  refreshErrors(cancel);
+  if (cancel && cancel->load()) return;
+  auto start = Clock::now();
+  const uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
+  std::vector<uint32_t> counts(pixelCount);
+  for (size_t p = 0; p < pixelCount; ++p) counts[p] = film_[p].count;
+  const std::vector<uint32_t> slots = allocateByError(
+      allocationError(), counts, budget, s_.config.allocation, s_.shape.seed, s_.adaptiveRounds);
+  std::vector<uint32_t> chosen;
+  for (uint32_t p = 0; p < pixelCount; ++p) {
+    s_.selected[p] = slots[p] > 0;
+    s_.pixel(p).addedLastRound = 0;
+    if (slots[p] > 0) chosen.push_back(p);
+  }
+  ++s_.adaptiveRounds;
+  s_.times.select += secondsSince(start);
+  if (chosen.empty()) {
+    s_.stalled = true;
+    return;
+  }
+  start = Clock::now();
+  std::atomic<uint64_t> spent{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), 16),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      if (s_.cancelled(cancel)) return;
+                      TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, setSize_);
+                      uint64_t local = 0;
+                      for (size_t i = range.begin(); i < range.end(); ++i) {
+                        const uint32_t p = chosen[i];
+                        const uint32_t before = s_.pixel(p).kept;
+                        tracePixel(p, slots[p], chunk, nullptr);
+                        s_.pixel(p).addedLastRound = s_.pixel(p).kept - before;
+                        local += slots[p];
+                      }
+                      spent += local;
+                    });
+  if (cancel && cancel->load()) return;
+  s_.spent += spent;
+  s_.traced += spent;
+  s_.kept = 0;
+  for (const PixelState& px : s_.store.pixels) s_.kept += px.kept;
+  s_.times.trace += secondsSince(start);
+  trainDue(cancel);
+}
+
+std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
+                                                     const std::atomic<bool>* cancel) {
+  auto snap = std::make_shared<Snapshot>();
+  snap->method = "bp";
+  snap->round = s_.rounds;
+  snap->final = done();
+  snap->width = s_.width;
+  snap->height = s_.height;
+  snap->raw = film_.meanImage();
+  snap->reconstructed = snap->raw;
+  if (reconstructImage && s_.config.reconstruct && s_.rounds > 0) {
+    if (reconstructedAtRound_ != s_.rounds) {
+      const auto start = Clock::now();
+      recon::DenoiseResult r = reconstructFilm(film_, s_.config.denoise, cancel);
+      s_.times.reconstruct += secondsSince(start);
+      lastReconstruction_ = std::move(r);
+      reconstructedAtRound_ = s_.rounds;
+    }
+    const recon::DenoiseResult& r = *lastReconstruction_;
+    snap->reconstructed = r.output;
+    addReconstructionMaps(*snap, r, s_.config.denoise, relativeError(r, film_));
+  }
+  if (s_.rounds > 0) {
+    // What ranks the pixels: the filtered relMSE estimate scaled by the network's bias.
+    std::vector<float> e = allocationError();
+    const float top = std::max(1e-6f, percentileOf(e, 0.99f));
+    snap->addMap(MapId::ErrorEstimate, "allocation error (relMSE x (1 + w bias))", std::move(e),
+                 MapLegend::sequential(0.0f, top));
+  }
+  addFilmMaps(*snap, film_);
+  std::vector<float> er(s_.pixelCount), prediction(3 * s_.pixelCount);
+  std::vector<uint32_t> kept(s_.pixelCount), traced(s_.pixelCount);
+  for (size_t p = 0; p < s_.pixelCount; ++p) {
+    const PixelState& px = s_.pixel(p);
+    er[p] = px.er;
+    for (int k = 0; k < 3; ++k) prediction[3 * p + size_t(k)] = px.prediction[k];
+    kept[p] = film_[p].count;
+    traced[p] = px.traced;
+  }
+  if (usesNetworks()) {
+    snap->addMap(MapId::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
+    const float erTop = std::max(1e-3f, finiteMax(er));
+    snap->addMap(MapId::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
+  }
+  addSelectedMap(*snap, s_.selected);
+  addSampleCountMaps(*snap, kept, traced);
+  for (uint32_t c : kept) snap->keptSamples += c;
+  snap->tracedSamples = s_.traced;
+  snap->rays = s_.counters.rays;
+  snap->nonFiniteSamples = s_.counters.nonFinite;
+  snap->times = s_.times;
+  snap->trainingFlops = s_.trainingFlops;
+  snap->trainingKernelSeconds = s_.trainingSeconds;
+  snap->seconds = secondsSince(s_.start);
+  return snap;
+}
+
+PixelInspection ConsistentMethod::inspect(int x, int y) const {
+  PixelInspection in = startInspection(x, y, s_.width, s_.height, s_.rounds, "bp");
+  if (!in.valid) return in;
+  const size_t p = size_t(y) * s_.width + x;
+  const PixelState& px = s_.pixel(p);
+  const FilmPixel& f = film_[p];
+  in.estimate = vec3(f.mean);
+  in.kept = f.count;
+  in.traced = px.traced;
+  in.addedLastRound = px.addedLastRound;
+  char line[200];
+  const vec3 v = f.varianceOfMean();
+  std::snprintf(line, sizeof line, "variance of the mean %.3g %.3g %.3g", v.x, v.y, v.z);
+  in.addValue("variance of the mean", {v.x, v.y, v.z}, line);
+  const float e = errorAtReconstruction_[p];
+  std::snprintf(line, sizeof line, "filtered relMSE %.3g (estimated at %u samples)", e,
+                countAtReconstruction_[p]);
+  in.addValue("filtered relMSE", {e}, line, MapId::ErrorEstimate);
+  if (lastReconstruction_) {
+    const int scale = lastReconstruction_->scale[p];
+    const int radius = scale == 0 ? 0 : s_.config.denoise.radii[size_t(scale - 1)];
+    std::snprintf(line, sizeof line, "filter window %s%d",
+                  scale == 0 ? "identity, r=" : "r=", radius);
+    in.addValue("filter window", {float(scale), float(radius)}, line, MapId::FilterScale);
+  }
+  if (usesNetworks()) {
+    std::snprintf(line, sizeof line, "network bias %.3f: error x %.2f; er %.3f", px.bias,
+                  networkFactor(p), px.er);
+    in.addValue("bias", {px.bias, networkFactor(p)}, line);
+    const vec3 net = px.prediction;
+    std::snprintf(line, sizeof line, "net  I'  %.3f %.3f %.3f", net.x, net.y, net.z);
+    in.addValue("I'", {net.x, net.y, net.z}, line, MapId::Prediction);
+  }
+  char reason[200];
+  if (s_.rounds == 1)
+    std::snprintf(reason, sizeof reason, "coarse pass: %u samples", f.count);
+  else if (in.addedLastRound > 0)
+    std::snprintf(reason, sizeof reason,
+                  "got %u samples last round: its estimated error x samples ranks it",
+                  in.addedLastRound);
+  else
+    std::snprintf(reason, sizeof reason,
+                  "no samples last round: its estimated error is low enough for now");
+  in.reason = reason;
+  return in;
+}
+
+}  // namespace
+
+std::unique_ptr<ProgressiveMethod> makeConsistentMethod(const PreparedScene& prepared,
+                                                        const RunShape& shape,
+                                                        const BpConfig& config) {
+  return std::make_unique<ConsistentMethod>(prepared, shape, config);
+}
+
+}  // namespace penumbra::bp

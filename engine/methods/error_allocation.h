@@ -1,0 +1,34 @@
+// Where the next samples go when a reconstruction estimates each pixel's error
+// (RECONSTRUCTION.md §5). A pixel's estimated error falls about as 1/n with its sample count,
+// so e_p(n) = c_p / n with c_p = e_p n_p. Minimising sum_p c_p / (n_p + dn_p) over the
+// round's budget gives the water-filling allocation n_p + dn_p = lambda sqrt(c_p) (a
+// Lagrange multiplier), never taking samples away. A floor keeps every pixel's count at
+// least `floorFraction` of the mean count, so every pixel keeps receiving samples and the
+// estimate stays consistent; a pixel whose error is below the noise threshold gets none.
+// It ranks at every spp: there is no uniform pass.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace penumbra {
+
+struct ErrorAllocation {
+  float floorFraction = 0.25f;  // every pixel's count >= this x the mean count after the round
+  float noiseThreshold = 0;     // pixels with error below it get nothing (0: none)
+};
+
+// Samples per pixel for the next round, summing to `budget` up to rounding (each pixel's
+// real share is rounded by a deterministic coin from (seed, round, pixel)). `error`: the
+// estimated (relative) error of each pixel now; `count`: its samples. A non-finite error
+// counts as the largest finite one.
+std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<const uint32_t> count,
+                                      uint64_t budget, const ErrorAllocation& config, uint64_t seed,
+                                      int round);
+
+// A 3x3 box average (clipped at the borders) of a per-pixel map, Cycles' dilation of its
+// error map in a smoother form: an isolated noisy estimate does not starve or flood a pixel.
+std::vector<float> smooth3x3(std::span<const float> values, int width, int height);
+
+}  // namespace penumbra

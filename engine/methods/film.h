@@ -1,0 +1,72 @@
+// The film: what every pixel accumulates from its samples, for the image, the variance of
+// its mean, the allocation of the next samples and a consistent reconstruction
+// (RECONSTRUCTION.md §1):
+//  - the running mean and squared deviations of the radiance (Welford, in sample order, in
+//    double: the LD image is exactly this mean, as before the film existed);
+//  - two half buffers: the samples alternate between A and B by their order in the pixel,
+//    for a second estimate of the variance of the mean and for cross-filtering;
+//  - first-hit features (albedo, shading normal, depth) and the directly seen emission
+//    (trace/integrator.h's PathFeatures), each as a running mean with its variance.
+// Adding a sample consumes no random numbers. One pixel is written by one thread at a time.
+#pragma once
+
+#include "core/image.h"
+#include "trace/integrator.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra {
+
+struct FilmPixel {
+  glm::dvec3 mean{0.0}, m2{0.0};  // radiance: Welford's running mean and squared deviations
+  glm::dvec3 sumA{0.0};           // sum of the radiance of the samples in half A
+  uint32_t count = 0, countA = 0;
+  vec3 albedo{0.0f}, albedoM2{0.0f};
+  vec3 normal{0.0f};
+  float normalM2 = 0;  // summed over x, y, z
+  float depth = 0, depthM2 = 0;
+  vec3 emission{0.0f};  // running mean of the directly seen emission
+
+  // Adds one finite sample; samples alternate between the halves, A first.
+  void add(vec3 radiance, const PathFeatures& f);
+  vec3 variance() const;        // per channel: unbiased sample variance (0 below 2 samples)
+  vec3 varianceOfMean() const;  // variance() / count
+  vec3 meanA() const;           // the halves' means (0 while empty)
+  vec3 meanB() const;
+  // (A - B)^2 nA nB / n^2: the two-buffer estimate of the variance of the mean.
+  vec3 halfVarianceOfMean() const;
+};
+
+// What a reconstruction reads, one entry per pixel: the film's means and variances of the
+// mean. Depth is divided by the image's mean depth, so that feature weights do not depend on
+// the scene's units.
+struct FilmBuffers {
+  int width = 0, height = 0;
+  std::vector<vec3> mean, variance, halfA, halfB, emission;
+  std::vector<vec3> albedo, albedoVariance, normal;
+  std::vector<float> normalVariance, depth, depthVariance;
+};
+
+class Film {
+ public:
+  Film(int width, int height);
+  int width() const { return width_; }
+  int height() const { return height_; }
+  size_t pixelCount() const { return pixels_.size(); }
+  FilmPixel& operator[](size_t p) { return pixels_[p]; }
+  const FilmPixel& operator[](size_t p) const { return pixels_[p]; }
+  Image meanImage() const;
+  Image varianceOfMeanImage() const;
+  FilmBuffers buffers() const;
+  size_t memoryBytes() const { return pixels_.capacity() * sizeof(FilmPixel); }
+
+ private:
+  int width_, height_;
+  std::vector<FilmPixel> pixels_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,122 @@
+#include "methods/film_reconstruction.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace penumbra {
+
+const ParamTable<recon::DenoiseConfig>& denoiseParams() {
+  static const ParamTable<recon::DenoiseConfig> table = [] {
+    ParamTable<recon::DenoiseConfig> t;
+    t.group("Reconstruction (NL-means, features, SURE)")
+        .real(
+            "nl-k", "colour k", "NL-means colour strength k (RECONSTRUCTION.md section 2)",
+            [](auto& c) -> auto& { return c.k; }, 1e-3, 100, {0.05, 2}, true)
+        .real(
+            "feature-k", "feature k_f", "Feature weight strength k_f (section 3)",
+            [](auto& c) -> auto& { return c.kFeature; }, 1e-3, 100, {0.05, 4}, true)
+        .toggle(
+            "features", "feature weights", "Colour weights only: no albedo, normal, depth terms",
+            "--no-features", [](auto& c) -> auto& { return c.useFeatures; })
+        .toggle(
+            "demodulate", "albedo demodulation", "Filter radiance, not radiance over albedo",
+            "--no-demodulate", [](auto& c) -> auto& { return c.demodulate; })
+        .toggle(
+            "cross-filter", "cross-filtering",
+            "Weights from the pixel's own mean instead of the other half buffer",
+            "--no-cross-filter", [](auto& c) -> auto& { return c.crossFilter; });
+    return t;
+  }();
+  return table;
+}
+
+recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
+                                     const std::atomic<bool>* cancel) {
+  const FilmBuffers b = film.buffers();
+  recon::DenoiseInput in;
+  in.width = b.width;
+  in.height = b.height;
+  in.mean = b.mean;
+  in.variance = b.variance;
+  in.halfA = b.halfA;
+  in.halfB = b.halfB;
+  in.emission = b.emission;
+  in.albedo = b.albedo;
+  in.albedoVariance = b.albedoVariance;
+  in.normal = b.normal;
+  in.normalVariance = b.normalVariance;
+  in.depth = b.depth;
+  in.depthVariance = b.depthVariance;
+  return recon::denoise(in, config, cancel);
+}
+
+namespace {
+float regulariser(vec3 mean) {
+  const float y = (mean.x + mean.y + mean.z) / 3.0f;
+  return y * y + 0.01f;
+}
+}  // namespace
+
+std::vector<float> relativeError(const recon::DenoiseResult& result, const Film& film) {
+  std::vector<float> e(film.pixelCount());
+  for (size_t p = 0; p < e.size(); ++p)
+    e[p] = result.mseEstimate[p] / regulariser(result.output.pixels[p]);
+  return e;
+}
+
+std::vector<float> rawRelativeError(const Film& film) {
+  std::vector<float> e(film.pixelCount());
+  for (size_t p = 0; p < e.size(); ++p) {
+    const vec3 v = film[p].varianceOfMean();
+    e[p] = (v.x + v.y + v.z) / 3.0f / regulariser(vec3(film[p].mean));
+  }
+  return e;
+}
+
+double meanOf(const std::vector<float>& values) {
+  double sum = 0;
+  size_t used = 0;
+  for (float v : values)
+    if (std::isfinite(v)) {
+      sum += v;
+      ++used;
+    }
+  return used ? sum / double(used) : 0.0;
+}
+
+void addFilmMaps(Snapshot& snap, const Film& film) {
+  const size_t n = film.pixelCount();
+  std::vector<float> albedo(3 * n), normal(3 * n), depth(n), emission(3 * n);
+  const FilmBuffers b = film.buffers();
+  for (size_t p = 0; p < n; ++p)
+    for (int k = 0; k < 3; ++k) {
+      albedo[3 * p + k] = b.albedo[p][k];
+      normal[3 * p + k] = 0.5f + 0.5f * b.normal[p][k];
+      emission[3 * p + k] = b.emission[p][k];
+      depth[p] = b.depth[p];
+    }
+  snap.addMap(MapId::Albedo, "albedo", std::move(albedo), MapLegend::rgb());
+  snap.addMap(MapId::Normal, "normal (0.5 + 0.5 n)", std::move(normal), MapLegend::rgb());
+  const float depthTop = std::max(1e-3f, percentileOf(depth, 0.99f));
+  snap.addMap(MapId::Depth, "depth / mean depth", std::move(depth),
+              MapLegend::sequential(0.0f, depthTop));
+  snap.addMap(MapId::Emission, "directly seen emission", std::move(emission), MapLegend::rgb());
+  std::vector<float> raw = rawRelativeError(film);
+  const float rawTop = std::max(1e-6f, percentileOf(raw, 0.99f));
+  snap.addMap(MapId::RawError, "raw relMSE (estimated)", std::move(raw),
+              MapLegend::sequential(0.0f, rawTop));
+}
+
+void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
+                           const recon::DenoiseConfig& config, const std::vector<float>& error) {
+  std::vector<std::string> labels{"identity"};
+  for (int r : config.radii) labels.push_back("r=" + std::to_string(r));
+  snap.addMap(MapId::FilterScale, "filter window", asFloats(result.scale),
+              MapLegend::categorical(std::move(labels)));
+  const float top = std::max(1e-6f, percentileOf(error, 0.99f));
+  snap.addMap(MapId::ErrorEstimate, "relMSE (estimated, filtered)", error,
+              MapLegend::sequential(0.0f, top));
+}
+
+}  // namespace penumbra

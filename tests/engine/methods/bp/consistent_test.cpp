@@ -1,0 +1,112 @@
+// BP's consistent algorithm (the default preset): it converges as samples grow, its raw
+// estimate is unbiased (the per-pixel z-test LD passes), a fixed-spp run does not depend on the
+// thread count, and its stopping rules hold.
+#include "methods/bp/method.h"
+
+#include "core/image_io.h"
+#include "eval/metrics.h"
+#include "methods/factory.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+namespace penumbra {
+namespace {
+
+BpConfig consistentConfig() {
+  BpConfig c;
+  applyBpPreset(c, BpPreset::Consistent);
+  return c;
+}
+
+double meanOfLuminance(const Image& image) {
+  double sum = 0;
+  for (const vec3& p : image.pixels) sum += luminance(p);
+  return sum / double(image.pixels.size());
+}
+
+TEST(ConsistentBp, ItsErrorFallsAtLeastSixfoldFrom16To256Spp) {
+  const Image reference = readImage(test::sourcePath("tests/data/cornell_ref.exr"));
+  const Image referenceVariance = readImage(test::sourcePath("tests/data/cornell_ref_var.exr"));
+  auto prepared = test::shippedScene("cornell", reference.width);
+  // The reference's own noise is a floor no render can go below: leave it out.
+  double floor = 0;
+  for (const vec3& v : referenceVariance.pixels) floor += (v.x + v.y + v.z) / 3.0;
+  floor /= double(referenceVariance.pixels.size());
+  double mse[2];
+  const int spp[2] = {16, 256};
+  for (int i = 0; i < 2; ++i) {
+    auto method = makeBpMethod(*prepared, RunShape::batch(spp[i], 4), consistentConfig());
+    const auto snap = test::runToEnd(*method);
+    mse[i] = compareImages(snap->reconstructed, reference).mse - floor;
+  }
+  EXPECT_GT(mse[0], 6.0 * mse[1]) << "MSE 16 spp " << mse[0] << ", 256 spp " << mse[1];
+}
+
+TEST(ConsistentBp, TheRawEstimatePassesTheZTestAgainstTheReference) {
+  const Image reference = readImage(test::sourcePath("tests/data/cornell_ref.exr"));
+  const Image referenceVariance = readImage(test::sourcePath("tests/data/cornell_ref_var.exr"));
+  auto prepared = test::shippedScene("cornell", reference.width);
+  RunShape shape = RunShape::batch(256, 12345);
+  shape.sampler = SamplerKind::Independent;  // independent samples: the variance is honest
+  auto method = makeBpMethod(*prepared, shape, consistentConfig());
+  const auto snap = test::runToEnd(*method);
+  const Image variance = method->rawVarianceOfMean();
+  ASSERT_EQ(variance.pixels.size(), reference.pixels.size());
+  // As Render.CornellMatchesTheStoredReference: Sidak-corrected per pixel, and the image mean.
+  const double n = double(reference.pixels.size());
+  const double pixelAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / n);
+  int failures = 0;
+  double diffSum = 0, varSum = 0;
+  for (size_t i = 0; i < reference.pixels.size(); ++i) {
+    const double d = luminance(snap->raw.pixels[i]) - luminance(reference.pixels[i]);
+    const double v = luminance(variance.pixels[i]) + luminance(referenceVariance.pixels[i]) + 1e-12;
+    failures += std::erfc(std::abs(d / std::sqrt(v)) / std::sqrt(2.0)) < pixelAlpha;
+    diffSum += d;
+    varSum += v;
+  }
+  EXPECT_EQ(failures, 0);
+  EXPECT_LT(std::abs(diffSum / std::sqrt(varSum)), 2.576);
+  // And the allocation was adaptive: the counts differ from pixel to pixel.
+  const SnapshotMap* kept = snap->map(MapId::SampleCount);
+  ASSERT_NE(kept, nullptr);
+  const auto [lo, hi] = std::minmax_element(kept->values.begin(), kept->values.end());
+  EXPECT_GT(*hi, 2 * *lo);
+}
+
+TEST(ConsistentBp, AFixedSppRunDoesNotDependOnTheThreadCount) {
+  auto prepared = test::shippedScene("tire", 32);
+  std::shared_ptr<Snapshot> snaps[2];
+  for (int i = 0; i < 2; ++i) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(i + 1));
+    auto method = makeBpMethod(*prepared, RunShape::batch(16, 2), consistentConfig());
+    snaps[i] = test::runToEnd(*method);
+  }
+  EXPECT_EQ(snaps[0]->raw.pixels, snaps[1]->raw.pixels);
+  EXPECT_EQ(snaps[0]->reconstructed.pixels, snaps[1]->reconstructed.pixels);
+}
+
+TEST(ConsistentBp, TheNoiseThresholdStopsTheRunOnceTheEstimateIsBelowIt) {
+  auto prepared = test::shippedScene("cornell", 32);
+  RunShape shape = RunShape::progressive(1, 3, 4096);
+  shape.noiseThreshold = 2e-3f;
+  auto method = makeBpMethod(*prepared, shape, consistentConfig());
+  const auto snap = test::runToEnd(*method, 100000);
+  EXPECT_LT(method->estimatedError(), 2e-3);
+  EXPECT_LT(double(snap->keptSamples) / (32 * 32), 4096.0);  // stopped before the cap
+  EXPECT_GT(meanOfLuminance(snap->reconstructed), 0.0);
+}
+
+TEST(ConsistentBp, IsTheDefaultOfTheBpPresets) {
+  EXPECT_EQ(parseBpPreset("consistent"), BpPreset::Consistent);
+  EXPECT_EQ(consistentConfig().algorithm, BpAlgorithm::Consistent);
+  BpConfig paper;
+  applyBpPreset(paper, BpPreset::Paper);
+  EXPECT_EQ(paper.algorithm, BpAlgorithm::Paper);
+}
+
+}  // namespace
+}  // namespace penumbra

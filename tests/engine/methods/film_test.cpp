@@ -1,0 +1,76 @@
+// The film's per-pixel statistics: the mean is Welford's in sample order (LD's image as it has
+// always been), the halves alternate, and the two variance estimates agree with the spread.
+#include "methods/film.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penumbra {
+namespace {
+
+TEST(Film, TheMeanIsWelfordsInSampleOrderAndTheHalvesAlternate) {
+  FilmPixel px;
+  const float values[] = {1.0f, 3.0f, 2.0f, 10.0f, 0.5f};
+  glm::dvec3 mean(0.0), m2(0.0);
+  int n = 0;
+  for (float v : values) {
+    px.add(vec3(v), PathFeatures{});
+    ++n;
+    const glm::dvec3 d = glm::dvec3(vec3(v)) - mean;
+    mean += d / double(n);
+    m2 += d * (glm::dvec3(vec3(v)) - mean);
+  }
+  EXPECT_EQ(px.mean, mean);  // bit for bit
+  EXPECT_EQ(px.m2, m2);
+  EXPECT_EQ(px.count, 5u);
+  EXPECT_EQ(px.countA, 3u);                                  // samples 0, 2, 4
+  EXPECT_FLOAT_EQ(px.meanA().x, (1.0f + 2.0f + 0.5f) / 3);  // A
+  EXPECT_FLOAT_EQ(px.meanB().x, (3.0f + 10.0f) / 2);        // B
+  EXPECT_FLOAT_EQ(px.varianceOfMean().x, float(m2.x / (4.0 * 5.0)));
+}
+
+TEST(Film, BothVarianceEstimatesMatchTheSpreadOfTheMean) {
+  // Many pixels with independent samples of known variance 4: the mean over pixels of each
+  // estimate of the variance of the mean is close to 4 / n.
+  std::mt19937 rng(7);
+  std::normal_distribution<float> noise(1.0f, 2.0f);
+  const int n = 16;
+  double welford = 0, halves = 0;
+  const int pixels = 4000;
+  for (int p = 0; p < pixels; ++p) {
+    FilmPixel px;
+    for (int i = 0; i < n; ++i) px.add(vec3(noise(rng)), PathFeatures{});
+    welford += px.varianceOfMean().x;
+    halves += px.halfVarianceOfMean().x;
+  }
+  EXPECT_NEAR(welford / pixels, 4.0 / n, 0.05 * 4.0 / n);
+  EXPECT_NEAR(halves / pixels, 4.0 / n, 0.1 * 4.0 / n);  // one degree of freedom: noisier
+}
+
+TEST(Film, FeaturesAreRunningMeansWithVariancesAndBrokenOnesAreDropped) {
+  Film film(1, 1);
+  PathFeatures a, b;
+  a.albedo = vec3(0.2f);
+  a.normal = vec3(0, 0, 1);
+  a.depth = 2;
+  a.emission = vec3(1.0f);
+  b.albedo = vec3(0.6f);
+  b.normal = vec3(0, 1, 0);
+  b.depth = 4;
+  film[0].add(vec3(1.0f), a);
+  film[0].add(vec3(1.0f), b);
+  PathFeatures broken = a;
+  broken.albedo = vec3(NAN);
+  film[0].add(vec3(1.0f), broken);  // the radiance counts, the features are the defaults
+  EXPECT_EQ(film[0].count, 3u);
+  const FilmBuffers buffers = film.buffers();
+  EXPECT_NEAR(buffers.albedo[0].x, (0.2f + 0.6f + 1.0f) / 3, 1e-6f);
+  EXPECT_NEAR(buffers.emission[0].x, 2.0f / 3, 1e-6f);
+  EXPECT_NEAR(buffers.depth[0], 1.0f, 1e-6f);  // divided by the image's mean depth
+  EXPECT_GT(buffers.albedoVariance[0].x, 0.0f);
+  EXPECT_GT(buffers.normalVariance[0], 0.0f);
+}
+
+}  // namespace
+}  // namespace penumbra
