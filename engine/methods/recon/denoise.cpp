@@ -89,6 +89,16 @@ bool inputsFinite(const DenoiseInput& in, const Usage& use, size_t p) {
   return ok;
 }
 
+// fn(p, x, y) for every pixel, rows in parallel; each pixel's work must be its own.
+template <typename Fn>
+void forEachPixel(int width, int height, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) {
+      for (int x = 0; x < width; ++x) fn(size_t(y) * width + x, x, y);
+    }
+  });
+}
+
 void resize3(Planes3& planes, size_t count) {
   for (Plane& plane : planes) plane.assign(count, 0.0f);
 }
@@ -109,7 +119,7 @@ SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, c
   resize3(out.emission, count);
   resize3(meanVariance, count);
   out.valid.assign(count, 0.0f);
-  for (size_t p = 0; p < count; ++p) {
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
     bool ok = inputsFinite(in, use, p);
     float value[2][3], demod[3], emission[3], variance[3];
     for (int c = 0; ok && c < 3; ++c) {
@@ -127,7 +137,7 @@ SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, c
     }
     if (!ok) {
       for (int c = 0; c < 3; ++c) out.demod[c][p] = 1.0f;
-      continue;
+      return;
     }
     out.valid[p] = 1.0f;
     for (int c = 0; c < 3; ++c) {
@@ -137,7 +147,7 @@ SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, c
       out.demod[c][p] = demod[c];
       out.emission[c][p] = emission[c];
     }
-  }
+  });
   return out;
 }
 
@@ -164,26 +174,23 @@ FeaturePlanes featurePlanes(const SweepInput& domain, const DenoiseConfig& confi
   for (int c = 0; c < components; ++c) f.value[c].assign(count, 0.0f);
   f.variance.assign(count, 0.0f);
   f.inverseScale.assign(count, 0.0f);
-  for (size_t p = 0; p < count; ++p) {
-    if (!(domain.valid[p] > 0.0f)) continue;
+  forEachPixel(width, height, [&](size_t p, int, int) {
+    if (!(domain.valid[p] > 0.0f)) return;
     for (int c = 0; c < components; ++c) f.value[c][p] = valueOf(p, c);
     f.variance[p] = std::min(std::max(varianceOf(p), 0.0f), kMaxVariance);
-  }
+  });
   const float kf2 = config.kFeature * config.kFeature;
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const size_t p = size_t(y) * width + x;
-      if (!(domain.valid[p] > 0.0f)) continue;
-      float gradient2 = 0.0f;
-      for (int c = 0; c < components; ++c) {
-        const float gx = centralDifference(f.value[c], domain.valid, p, x > 0, x + 1 < width, 1);
-        const float gy =
-            centralDifference(f.value[c], domain.valid, p, y > 0, y + 1 < height, size_t(width));
-        gradient2 += gx * gx + gy * gy;
-      }
-      f.inverseScale[p] = 1.0f / (kf2 * std::max({config.tau, f.variance[p], gradient2}));
+  forEachPixel(width, height, [&](size_t p, int x, int y) {
+    if (!(domain.valid[p] > 0.0f)) return;
+    float gradient2 = 0.0f;
+    for (int c = 0; c < components; ++c) {
+      const float gx = centralDifference(f.value[c], domain.valid, p, x > 0, x + 1 < width, 1);
+      const float gy =
+          centralDifference(f.value[c], domain.valid, p, y > 0, y + 1 < height, size_t(width));
+      gradient2 += gx * gx + gy * gy;
     }
-  }
+    f.inverseScale[p] = 1.0f / (kf2 * std::max({config.tau, f.variance[p], gradient2}));
+  });
   return f;
 }
 
@@ -256,11 +263,11 @@ detail::ScaleMaps identityMaps(const DenoiseInput& in, const SweepInput& domain,
   maps.output.assign(in.mean.begin(), in.mean.end());
   maps.mse.assign(count, std::numeric_limits<float>::infinity());
   maps.varianceRatio.assign(count, 1.0f);
-  for (size_t p = 0; p < count; ++p) {
-    if (!(domain.valid[p] > 0.0f)) continue;
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
+    if (!(domain.valid[p] > 0.0f)) return;
     maps.mse[p] = detail::toLinearSum(meanVariance[0][p], meanVariance[1][p], meanVariance[2][p],
                                       domain.demod[0][p], domain.demod[1][p], domain.demod[2][p]);
-  }
+  });
   return maps;
 }
 
@@ -288,10 +295,11 @@ std::string validate(const DenoiseConfig& config) {
     return "sureSmoothRadius: must be in [0, 16]";
   if (!positive(config.albedoEpsilon)) return "albedoEpsilon: must be a finite value > 0";
   if (config.denseRadius < 1) return "denseRadius: must be >= 1";
+  // A radius just above denseRadius needs offsets of its sparse ring that are kept.
   for (int r : config.radii) {
-    if (r > config.denseRadius && r < config.denseRadius + 2)
-      return "denseRadius: radius " + std::to_string(r) + " is above denseRadius " +
-             std::to_string(config.denseRadius) + " but below denseRadius + 2";
+    if (r == config.denseRadius + 1 && r % 2 == 1)
+      return "denseRadius: radius " + std::to_string(r) + " is denseRadius + 1 and odd, so " +
+             "none of its outer offsets (even coordinates only) would be taken";
   }
   return {};
 }
@@ -330,7 +338,7 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
   result.scale.assign(count, 0);
   result.mseEstimate.assign(count, 0.0f);
   result.varianceRatio.assign(count, 1.0f);
-  for (size_t p = 0; p < count; ++p) {
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
     // The least smoothed SURE wins; ties go to the narrower scale (the identity first).
     size_t best = 0;
     if (domain.valid[p] > 0.0f) {
@@ -349,7 +357,7 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
     // NaN becomes 0; a pixel that is not valid keeps +inf (its variance counts as infinite).
     result.mseEstimate[p] = mse > 0.0f ? mse : 0.0f;
     result.varianceRatio[p] = candidates[best].varianceRatio[p];
-  }
+  });
 
   if (detail) {
     *detail = DenoiseDetail{};

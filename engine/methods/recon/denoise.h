@@ -64,8 +64,8 @@ struct DenoiseConfig {
   bool useFeatures = true;
   // Window offsets whose Chebyshev norm exceeds denseRadius are taken only where both
   // coordinates are even, their spatial weights scaled up so that each scale's ring keeps its
-  // total spatial weight (about 4x fewer weights beyond it). Every radius above denseRadius
-  // must be at least denseRadius + 2, so that its ring holds some of them.
+  // total spatial weight (about 4x fewer weights beyond it). A radius of denseRadius + 1 must
+  // be even, so that its ring holds some of them.
   int denseRadius = 4;
 };
 
