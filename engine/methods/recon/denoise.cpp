@@ -1,0 +1,379 @@
+// The error-driven reconstruction of methods/recon/denoise.h: checks, the filtered domain
+// (emission out, albedo divided out), the features' planes, and the choice of scale per pixel
+// by smoothed SURE. The filter bank itself is methods/recon/sweep.cpp.
+#include "methods/recon/denoise.h"
+
+#include "methods/recon/sweep.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace penumbra::recon {
+namespace {
+
+using detail::FeaturePlanes;
+using detail::Plane;
+using detail::Planes3;
+using detail::SweepInput;
+
+// Larger variances of the mean are clamped to this, so that sums of them stay finite.
+constexpr float kMaxVariance = 1e30f;
+// Bounds that keep the bank's cost and its uint8_t scale index sane.
+constexpr int kMaxRadius = 64;
+constexpr size_t kMaxScales = 32;
+
+template <typename T>
+void requireSize(std::span<const T> values, const char* field, size_t count, bool required) {
+  if (values.empty() && !required) return;
+  if (values.size() != count)
+    throw std::invalid_argument(std::string("denoise: ") + field + " has " +
+                                std::to_string(values.size()) + " values for " +
+                                std::to_string(count) + " pixels");
+}
+
+void checkInput(const DenoiseInput& in) {
+  if (in.width < 1 || in.height < 1)
+    throw std::invalid_argument("denoise: width " + std::to_string(in.width) + " or height " +
+                                std::to_string(in.height) + " is < 1");
+  const size_t count = size_t(in.width) * size_t(in.height);
+  requireSize(in.mean, "mean", count, true);
+  requireSize(in.variance, "variance", count, true);
+  requireSize(in.halfA, "halfA", count, false);
+  requireSize(in.halfB, "halfB", count, false);
+  if (in.halfA.empty() != in.halfB.empty())
+    throw std::invalid_argument(std::string("denoise: ") + (in.halfA.empty() ? "halfA" : "halfB") +
+                                " is empty while the other half is given");
+  requireSize(in.emission, "emission", count, false);
+  requireSize(in.albedo, "albedo", count, false);
+  requireSize(in.albedoVariance, "albedoVariance", count, false);
+  requireSize(in.normal, "normal", count, false);
+  requireSize(in.normalVariance, "normalVariance", count, false);
+  requireSize(in.depth, "depth", count, false);
+  requireSize(in.depthVariance, "depthVariance", count, false);
+}
+
+bool finite(float v) { return std::isfinite(v); }
+
+// Which inputs the denoiser reads, and so which must be finite for a pixel to be used.
+struct Usage {
+  bool cross = false, emission = false, demodulate = false;
+  bool albedo = false, normal = false, depth = false;  // as features
+};
+
+Usage usageOf(const DenoiseInput& in, const DenoiseConfig& config) {
+  Usage use;
+  use.cross = config.crossFilter && !in.halfA.empty();
+  use.emission = !in.emission.empty();
+  use.demodulate = config.demodulate && !in.albedo.empty();
+  use.albedo = config.useFeatures && !in.albedo.empty();
+  use.normal = config.useFeatures && !in.normal.empty();
+  use.depth = config.useFeatures && !in.depth.empty();
+  return use;
+}
+
+bool inputsFinite(const DenoiseInput& in, const Usage& use, size_t p) {
+  bool ok = isFinite(in.mean[p]) && isFinite(in.variance[p]);
+  if (use.cross) ok = ok && isFinite(in.halfA[p]) && isFinite(in.halfB[p]);
+  if (use.emission) ok = ok && isFinite(in.emission[p]);
+  if (use.demodulate || use.albedo) ok = ok && isFinite(in.albedo[p]);
+  if (use.albedo && !in.albedoVariance.empty()) ok = ok && isFinite(in.albedoVariance[p]);
+  if (use.normal) ok = ok && isFinite(in.normal[p]);
+  if (use.normal && !in.normalVariance.empty()) ok = ok && finite(in.normalVariance[p]);
+  if (use.depth) ok = ok && finite(in.depth[p]);
+  if (use.depth && !in.depthVariance.empty()) ok = ok && finite(in.depthVariance[p]);
+  return ok;
+}
+
+// fn(p, x, y) for every pixel, rows in parallel; each pixel's work must be its own.
+template <typename Fn>
+void forEachPixel(int width, int height, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) {
+      for (int x = 0; x < width; ++x) fn(size_t(y) * width + x, x, y);
+    }
+  });
+}
+
+void resize3(Planes3& planes, size_t count) {
+  for (Plane& plane : planes) plane.assign(count, 0.0f);
+}
+
+// The filtered domain (§1): y = (mean - emission) / demod with demod = albedo + eps, its
+// variance V / demod^2; the halves likewise, with the variance 2V of a half's mean.
+// meanVariance receives V / demod^2 (the identity's SURE).
+SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, const Usage& use,
+                          Planes3& meanVariance) {
+  const size_t count = in.mean.size();
+  SweepInput out;
+  out.width = in.width;
+  out.height = in.height;
+  out.streams = use.cross ? 2 : 1;
+  for (int s = 0; s < out.streams; ++s) resize3(out.value[s], count);
+  resize3(out.variance, count);
+  resize3(out.demod, count);
+  resize3(out.emission, count);
+  resize3(meanVariance, count);
+  out.valid.assign(count, 0.0f);
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
+    bool ok = inputsFinite(in, use, p);
+    float value[2][3], demod[3], emission[3], variance[3];
+    for (int c = 0; ok && c < 3; ++c) {
+      demod[c] = use.demodulate ? std::max(in.albedo[p][c], 0.0f) + config.albedoEpsilon : 1.0f;
+      emission[c] = use.emission ? in.emission[p][c] : 0.0f;
+      const float v = std::min(std::max(in.variance[p][c], 0.0f), kMaxVariance);
+      variance[c] = std::min(v / (demod[c] * demod[c]), kMaxVariance);
+      if (use.cross) {
+        value[0][c] = (in.halfA[p][c] - emission[c]) / demod[c];
+        value[1][c] = (in.halfB[p][c] - emission[c]) / demod[c];
+      } else {
+        value[0][c] = (in.mean[p][c] - emission[c]) / demod[c];
+      }
+      for (int s = 0; s < out.streams; ++s) ok = ok && finite(value[s][c]);
+    }
+    if (!ok) {
+      for (int c = 0; c < 3; ++c) out.demod[c][p] = 1.0f;
+      return;
+    }
+    out.valid[p] = 1.0f;
+    for (int c = 0; c < 3; ++c) {
+      for (int s = 0; s < out.streams; ++s) out.value[s][c][p] = value[s][c];
+      meanVariance[c][p] = variance[c];
+      out.variance[c][p] = use.cross ? 2.0f * variance[c] : variance[c];
+      out.demod[c][p] = demod[c];
+      out.emission[c][p] = emission[c];
+    }
+  });
+  return out;
+}
+
+// Central difference of `plane` at p along a step of `step` pixels, one-sided where one
+// neighbour is missing (outside the image or not valid), 0 where both are.
+float centralDifference(const Plane& plane, const Plane& valid, size_t p, bool hasLow, bool hasHigh,
+                        size_t step) {
+  hasLow = hasLow && valid[p - step] > 0.0f;
+  hasHigh = hasHigh && valid[p + step] > 0.0f;
+  if (hasLow && hasHigh) return 0.5f * (plane[p + step] - plane[p - step]);
+  if (hasHigh) return plane[p + step] - plane[p];
+  if (hasLow) return plane[p] - plane[p - step];
+  return 0.0f;
+}
+
+// A feature's planes (§3): components, variance, and 1 / (k_f^2 max(tau, Var_p, |grad_p|^2)).
+template <typename Value, typename Variance>
+FeaturePlanes featurePlanes(const SweepInput& domain, const DenoiseConfig& config, int components,
+                            Value&& valueOf, Variance&& varianceOf) {
+  const int width = domain.width, height = domain.height;
+  const size_t count = domain.valid.size();
+  FeaturePlanes f;
+  f.components = components;
+  for (int c = 0; c < components; ++c) f.value[c].assign(count, 0.0f);
+  f.variance.assign(count, 0.0f);
+  f.inverseScale.assign(count, 0.0f);
+  forEachPixel(width, height, [&](size_t p, int, int) {
+    if (!(domain.valid[p] > 0.0f)) return;
+    for (int c = 0; c < components; ++c) f.value[c][p] = valueOf(p, c);
+    f.variance[p] = std::min(std::max(varianceOf(p), 0.0f), kMaxVariance);
+  });
+  const float kf2 = config.kFeature * config.kFeature;
+  forEachPixel(width, height, [&](size_t p, int x, int y) {
+    if (!(domain.valid[p] > 0.0f)) return;
+    float gradient2 = 0.0f;
+    for (int c = 0; c < components; ++c) {
+      const float gx = centralDifference(f.value[c], domain.valid, p, x > 0, x + 1 < width, 1);
+      const float gy =
+          centralDifference(f.value[c], domain.valid, p, y > 0, y + 1 < height, size_t(width));
+      gradient2 += gx * gx + gy * gy;
+    }
+    f.inverseScale[p] = 1.0f / (kf2 * std::max({config.tau, f.variance[p], gradient2}));
+  });
+  return f;
+}
+
+void addFeatures(const DenoiseInput& in, const DenoiseConfig& config, const Usage& use,
+                 SweepInput& domain) {
+  if (use.albedo) {
+    domain.features.push_back(featurePlanes(
+        domain, config, 3, [&](size_t p, int c) { return in.albedo[p][c]; },
+        [&](size_t p) {
+          if (in.albedoVariance.empty()) return 0.0f;
+          const vec3 v = in.albedoVariance[p];
+          return v.x + v.y + v.z;
+        }));
+  }
+  if (use.normal) {
+    domain.features.push_back(featurePlanes(
+        domain, config, 3, [&](size_t p, int c) { return in.normal[p][c]; },
+        [&](size_t p) { return in.normalVariance.empty() ? 0.0f : in.normalVariance[p]; }));
+  }
+  if (use.depth) {
+    domain.features.push_back(featurePlanes(
+        domain, config, 1, [&](size_t p, int) { return in.depth[p]; },
+        [&](size_t p) { return in.depthVariance.empty() ? 0.0f : in.depthVariance[p]; }));
+  }
+}
+
+// Box mean of `map` over the valid pixels within `radius` (clipped to the image), separable;
+// a pixel that is not valid keeps its own value.
+std::vector<float> smoothed(const std::vector<float>& map, const Plane& valid, int width,
+                            int height, int radius) {
+  if (radius == 0) return map;
+  std::vector<float> rowSum(map.size()), rowCount(map.size()), out(map.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        float sum = 0.0f, n = 0.0f;
+        for (int t = std::max(0, x - radius); t <= std::min(width - 1, x + radius); ++t) {
+          const size_t q = size_t(y) * width + t;
+          if (valid[q] > 0.0f) {
+            sum += map[q];
+            n += 1.0f;
+          }
+        }
+        rowSum[size_t(y) * width + x] = sum;
+        rowCount[size_t(y) * width + x] = n;
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        const size_t p = size_t(y) * width + x;
+        float sum = 0.0f, n = 0.0f;
+        for (int t = std::max(0, y - radius); t <= std::min(height - 1, y + radius); ++t) {
+          sum += rowSum[size_t(t) * width + x];
+          n += rowCount[size_t(t) * width + x];
+        }
+        out[p] = valid[p] > 0.0f && n > 0.0f ? sum / n : map[p];
+      }
+    }
+  });
+  return out;
+}
+
+// The identity candidate: the mean itself, whose squared error is V exactly.
+detail::ScaleMaps identityMaps(const DenoiseInput& in, const SweepInput& domain,
+                               const Planes3& meanVariance) {
+  const size_t count = in.mean.size();
+  detail::ScaleMaps maps;
+  maps.output.assign(in.mean.begin(), in.mean.end());
+  maps.mse.assign(count, std::numeric_limits<float>::infinity());
+  maps.varianceRatio.assign(count, 1.0f);
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
+    if (!(domain.valid[p] > 0.0f)) return;
+    maps.mse[p] = detail::toLinearSum(meanVariance[0][p], meanVariance[1][p], meanVariance[2][p],
+                                      domain.demod[0][p], domain.demod[1][p], domain.demod[2][p]);
+  });
+  return maps;
+}
+
+}  // namespace
+
+std::string validate(const DenoiseConfig& config) {
+  if (config.radii.size() > kMaxScales)
+    return "radii: at most " + std::to_string(kMaxScales) + " scales, got " +
+           std::to_string(config.radii.size());
+  for (size_t i = 0; i < config.radii.size(); ++i) {
+    const int r = config.radii[i];
+    if (r < 1 || r > kMaxRadius)
+      return "radii: radius " + std::to_string(r) + " is not in [1, " + std::to_string(kMaxRadius) +
+             "]";
+    if (i > 0 && r <= config.radii[i - 1]) return "radii: must be strictly ascending";
+  }
+  auto positive = [](float v) { return v > 0.0f && std::isfinite(v); };
+  if (!positive(config.k)) return "k: must be a finite value > 0";
+  if (!(config.noiseCancel >= 0.0f) || !std::isfinite(config.noiseCancel))
+    return "noiseCancel: must be a finite value >= 0";
+  if (config.patchRadius < 0 || config.patchRadius > 8) return "patchRadius: must be in [0, 8]";
+  if (!positive(config.kFeature)) return "kFeature: must be a finite value > 0";
+  if (!positive(config.tau)) return "tau: must be a finite value > 0";
+  if (config.sureSmoothRadius < 0 || config.sureSmoothRadius > 16)
+    return "sureSmoothRadius: must be in [0, 16]";
+  if (!positive(config.albedoEpsilon)) return "albedoEpsilon: must be a finite value > 0";
+  if (config.denseRadius < 1) return "denseRadius: must be >= 1";
+  // A radius just above denseRadius needs offsets of its sparse ring that are kept.
+  for (int r : config.radii) {
+    if (r == config.denseRadius + 1 && r % 2 == 1)
+      return "denseRadius: radius " + std::to_string(r) + " is denseRadius + 1 and odd, so " +
+             "none of its outer offsets (even coordinates only) would be taken";
+  }
+  return {};
+}
+
+DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
+                      const std::atomic<bool>* cancel) {
+  return denoiseDetailed(in, config, nullptr, cancel);
+}
+
+DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
+                              DenoiseDetail* detail, const std::atomic<bool>* cancel) {
+  if (const std::string problem = validate(config); !problem.empty())
+    throw std::invalid_argument("denoise: " + problem);
+  checkInput(in);
+  const Usage use = usageOf(in, config);
+  Planes3 meanVariance;
+  SweepInput domain = filteredDomain(in, config, use, meanVariance);
+  addFeatures(in, config, use, domain);
+
+  std::vector<detail::ScaleMaps> candidates;
+  candidates.push_back(identityMaps(in, domain, meanVariance));
+  {
+    const detail::SweepConfig sweep{config.radii, config.k, config.noiseCancel, config.patchRadius,
+                                    config.denseRadius};
+    std::vector<detail::ScaleMaps> filtered = detail::sweepScales(domain, sweep, cancel);
+    for (detail::ScaleMaps& maps : filtered) candidates.push_back(std::move(maps));
+  }
+  std::vector<std::vector<float>> smoothedMse;
+  for (const detail::ScaleMaps& maps : candidates)
+    smoothedMse.push_back(
+        smoothed(maps.mse, domain.valid, in.width, in.height, config.sureSmoothRadius));
+
+  const size_t count = in.mean.size();
+  DenoiseResult result;
+  result.output = Image(in.width, in.height);
+  result.scale.assign(count, 0);
+  result.mseEstimate.assign(count, 0.0f);
+  result.varianceRatio.assign(count, 1.0f);
+  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
+    // The least smoothed SURE wins; ties go to the narrower scale (the identity first).
+    size_t best = 0;
+    if (domain.valid[p] > 0.0f) {
+      for (size_t s = 1; s < candidates.size(); ++s)
+        if (smoothedMse[s][p] < smoothedMse[best][p]) best = s;
+    }
+    vec3 output = candidates[best].output[p];
+    // Belt and braces: a finite mean never becomes a non-finite output.
+    if (!isFinite(output) && isFinite(in.mean[p])) {
+      best = 0;
+      output = in.mean[p];
+    }
+    result.output.pixels[p] = output;
+    result.scale[p] = uint8_t(best);
+    const float mse = smoothedMse[best][p] / 3.0f;
+    // NaN becomes 0; a pixel that is not valid keeps +inf (its variance counts as infinite).
+    result.mseEstimate[p] = mse > 0.0f ? mse : 0.0f;
+    result.varianceRatio[p] = candidates[best].varianceRatio[p];
+  });
+
+  if (detail) {
+    *detail = DenoiseDetail{};
+    for (size_t s = 0; s < candidates.size(); ++s) {
+      Image image(in.width, in.height);
+      image.pixels = std::move(candidates[s].output);
+      detail->scaleOutput.push_back(std::move(image));
+      std::vector<float> raw = candidates[s].mse, smooth = smoothedMse[s];
+      for (float& v : raw) v /= 3.0f;
+      for (float& v : smooth) v /= 3.0f;
+      detail->scaleMse.push_back(std::move(raw));
+      detail->scaleMseSmoothed.push_back(std::move(smooth));
+      detail->scaleVarianceRatio.push_back(std::move(candidates[s].varianceRatio));
+    }
+  }
+  return result;
+}
+
+}  // namespace penumbra::recon

@@ -1,0 +1,110 @@
+// A consistent, error-driven image reconstruction (docs RECONSTRUCTION.md §1-4): a bank of
+// non-local-means filters of growing window radius, one of which (or the unfiltered mean) is
+// chosen per pixel by Stein's unbiased risk estimate of its squared error.
+//  - Colour weights with a range term scaled by each pixel's variance of the mean, compared
+//    over 3x3 patches (Rousselle, Knaus, Zwicker, "Adaptive rendering with non-local means
+//    filtering", SIGGRAPH Asia 2012), cross-filtered between two half buffers so that the
+//    weights of one half never depend on the values they average (Rousselle, Manzi, Zwicker,
+//    "Robust denoising using feature and color information", Pacific Graphics 2013).
+//  - Feature weights on first-hit albedo, normal and depth, variance- and gradient-normalised
+//    (the same RDFC paper).
+//  - Scale selection per pixel by SURE (Li, Wu, Chuang, "SURE-based optimization for adaptive
+//    sampling and reconstruction", SIGGRAPH Asia 2012), in the spirit of greedy error
+//    minimisation (Rousselle, Knaus, Zwicker, SIGGRAPH Asia 2011). The unfiltered mean is
+//    always a candidate, with estimated error V; as V -> 0 with more samples any filter's bias
+//    makes it lose, so the output tends to the mean: the reconstruction is consistent.
+// Directly seen emission is kept out of the filter and added back; the rest is filtered
+// divided by (albedo + eps) and multiplied back, so textures stay sharp.
+// The result depends only on the inputs and the configuration, not on the thread count.
+#pragma once
+
+#include "core/image.h"
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace penumbra::recon {
+
+struct DenoiseInput {
+  int width = 0, height = 0;
+  // Per pixel, rows top first, linear RGB:
+  std::span<const vec3> mean;      // the pixel's estimate (directly seen emission included)
+  std::span<const vec3> variance;  // per channel: variance of `mean` (of the mean, not per sample)
+  // Means of the two half buffers (samples alternate A, B; equal counts). May be empty: then
+  // no cross-filtering (weights from `mean`).
+  std::span<const vec3> halfA, halfB;
+  // Directly seen emission part of `mean` (may be empty = none). What is filtered is
+  // mean - emission; the emission is added back unfiltered.
+  std::span<const vec3> emission;
+  // First-hit features, per pixel means and variances of the mean; any may be empty (= not
+  // used; an empty variance next to a given feature counts as 0).
+  std::span<const vec3> albedo;
+  std::span<const vec3> albedoVariance;
+  std::span<const vec3> normal;
+  std::span<const float> normalVariance;  // variance summed over xyz
+  std::span<const float> depth;
+  std::span<const float> depthVariance;
+};
+
+struct DenoiseConfig {
+  std::vector<int> radii{1, 2, 4, 8};  // window radii of the bank, ascending; the identity is
+                                       // always in it as well
+  float k = 0.45f;                     // colour strength (§2)
+  float noiseCancel = 1.0f;            // alpha of §2
+  int patchRadius = 1;                 // 3x3 patches
+  float kFeature = 0.6f;               // k_f of §3
+  float tau = 1e-3f;                   // §3
+  int sureSmoothRadius = 1;            // box radius for smoothing each SURE map before selection
+  bool demodulate = true;  // filter (mean - emission) / (albedo + albedoEpsilon), multiply back
+  float albedoEpsilon = 1e-2f;
+  bool crossFilter = true;  // filter A with weights from B and vice versa (when halves given)
+  bool useFeatures = true;
+  // Window offsets whose Chebyshev norm exceeds denseRadius are taken only where both
+  // coordinates are even, their spatial weights scaled up so that each scale's ring keeps its
+  // total spatial weight (about 4x fewer weights beyond it). A radius of denseRadius + 1 must
+  // be even, so that its ring holds some of them.
+  int denseRadius = 4;
+};
+
+struct DenoiseResult {
+  Image output;                // linear RGB, emission added back
+  std::vector<uint8_t> scale;  // per pixel: 0 = identity, i + 1 = radii[i]
+  // Per pixel: estimated squared error of output (mean over channels, linear units^2), from
+  // the smoothed SURE of the chosen scale (>= 0).
+  std::vector<float> mseEstimate;
+  // Per pixel: estimated variance of the output / variance of the raw mean (1 for identity;
+  // clamped to [0, 1]).
+  std::vector<float> varianceRatio;
+};
+
+// Every candidate of the bank, index 0 the identity and i + 1 radii[i]; for tests and
+// debug views.
+struct DenoiseDetail {
+  std::vector<Image> scaleOutput;                    // the candidate's output, linear RGB
+  std::vector<std::vector<float>> scaleMse;          // its estimated squared error per pixel
+                                                     // (mean over channels, linear units^2,
+                                                     // before smoothing; may be < 0)
+  std::vector<std::vector<float>> scaleMseSmoothed;  // the same after the box of
+                                                     // sureSmoothRadius
+  std::vector<std::vector<float>> scaleVarianceRatio;
+};
+
+// Empty when the configuration is valid, else a message that names the bad field.
+std::string validate(const DenoiseConfig& config);
+
+// Throws std::invalid_argument naming the field when a non-empty span has the wrong size
+// (mean and variance are required), width or height < 1, or the configuration is bad.
+// `cancel` is polled between rows; a cancelled result may be incomplete.
+// A pixel with any non-finite input counts as having infinite variance: it gets no weight as
+// a neighbour and its output is its mean.
+DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
+                      const std::atomic<bool>* cancel = nullptr);
+
+// denoise, filling `detail` (when not null) with every candidate of the bank.
+DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
+                              DenoiseDetail* detail, const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace penumbra::recon

@@ -1,0 +1,85 @@
+// The filter bank of methods/recon/denoise.h in one sweep over the offsets of its largest
+// window: each offset's weight is computed once per pixel and accumulated into every scale
+// whose window holds it; then SURE per scale. Internal to methods/recon.
+#pragma once
+
+#include "core/image.h"
+
+#include <array>
+#include <atomic>
+#include <vector>
+
+namespace penumbra::recon::detail {
+
+// A plane of floats, one per pixel (or a row buffer). Each plane starts at its own offset
+// within a 4 KiB page: planes of a power-of-two size would otherwise all start at the same
+// offset, and the sweep, which streams through a dozen of them at once, would keep evicting
+// its own cache lines (4K aliasing). The offset changes only addresses, never results.
+class Plane {
+ public:
+  void assign(size_t count, float value);
+  size_t size() const { return count_; }
+  float* data() { return storage_.data() + skew_; }
+  const float* data() const { return storage_.data() + skew_; }
+  float& operator[](size_t i) { return data()[i]; }
+  const float& operator[](size_t i) const { return data()[i]; }
+  float* begin() { return data(); }
+  float* end() { return data() + count_; }
+  const float* begin() const { return data(); }
+  const float* end() const { return data() + count_; }
+
+ private:
+  std::vector<float> storage_;
+  size_t skew_ = 0, count_ = 0;
+};
+using Planes3 = std::array<Plane, 3>;
+
+// A first-hit feature as the sweep reads it, per pixel: its components, the variance of their
+// mean summed over the components, and 1 / (k_f^2 max(tau, Var_p, |grad_p|^2)) (§3).
+struct FeaturePlanes {
+  int components = 0;
+  Planes3 value;
+  Plane variance;
+  Plane inverseScale;
+};
+
+// What the sweep filters, in the filtered domain ((mean - emission) / demod); every plane has
+// width * height entries and a pixel that is not valid holds zeros.
+struct SweepInput {
+  int width = 0, height = 0;
+  // 1: stream 0 is the mean, weighted by its own colours. 2: cross-filtering, stream 0 is half
+  // A weighted by the colours of half B and stream 1 the reverse.
+  int streams = 1;
+  std::array<Planes3, 2> value;
+  Planes3 variance;  // of one stream's values: V of the mean, or 2V for a half
+  Plane valid;       // 1 or 0
+  std::vector<FeaturePlanes> features;
+  Planes3 demod, emission;  // back to linear units: output = filtered * demod + emission
+};
+
+struct SweepConfig {
+  std::vector<int> radii;
+  float k = 0.45f, alpha = 1.0f;
+  int patchRadius = 1;
+  int denseRadius = 4;
+};
+
+// One candidate's per-pixel results in linear units.
+struct ScaleMaps {
+  std::vector<vec3> output;
+  std::vector<float> mse;            // estimated squared error, summed over channels
+  std::vector<float> varianceRatio;  // variance of the output / variance of the mean, in [0, 1]
+};
+
+// sum_c x_c d_c^2: a per-channel squared error or variance in the filtered domain, in linear
+// units. The identity's estimate goes through the same arithmetic as the filters', so that a
+// filter which keeps only the centre pixel ties with it exactly.
+inline float toLinearSum(float x0, float x1, float x2, float d0, float d1, float d2) {
+  return x0 * d0 * d0 + x1 * d1 * d1 + x2 * d2 * d2;
+}
+
+// One map per radius. Pixels that are not valid get output 0, mse +inf and ratio 1.
+std::vector<ScaleMaps> sweepScales(const SweepInput& in, const SweepConfig& config,
+                                   const std::atomic<bool>* cancel);
+
+}  // namespace penumbra::recon::detail
