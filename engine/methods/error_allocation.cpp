@@ -66,11 +66,11 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
   return out;
 }
 
-std::vector<float> smooth3x3(std::span<const float> values, int width, int height) {
+std::vector<float> dilate3x3(std::span<const float> values, int width, int height) {
   std::vector<float> out(values.size());
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      double sum = 0;
+      double top = 0;
       int used = 0;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -78,10 +78,10 @@ std::vector<float> smooth3x3(std::span<const float> values, int width, int heigh
           if (qx < 0 || qy < 0 || qx >= width || qy >= height) continue;
           const float v = values[size_t(qy) * width + qx];
           if (!std::isfinite(v)) continue;
-          sum += v;
+          top = std::max(top, double(v));
           ++used;
         }
-      out[size_t(y) * width + x] = used ? float(sum / used) : 0.0f;
+      out[size_t(y) * width + x] = used ? float(top) : 0.0f;
     }
   return out;
 }

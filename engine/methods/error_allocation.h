@@ -27,8 +27,10 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
                                       uint64_t budget, const ErrorAllocation& config, uint64_t seed,
                                       int round);
 
-// A 3x3 box average (clipped at the borders) of a per-pixel map, Cycles' dilation of its
-// error map in a smoother form: an isolated noisy estimate does not starve or flood a pixel.
-std::vector<float> smooth3x3(std::span<const float> values, int width, int height);
+// The largest value in each pixel's 3x3 neighbourhood (clipped at the borders), as Cycles
+// dilates its error map: a pixel whose own samples missed a rare bright contribution (the
+// sliver of an emitter at its edge) looks converged, but its neighbour has seen it, so the
+// pixel is not starved; without it the raw estimate fails the per-pixel z-test near lights.
+std::vector<float> dilate3x3(std::span<const float> values, int width, int height);
 
 }  // namespace penumbra

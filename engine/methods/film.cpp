@@ -11,8 +11,10 @@ void FilmPixel::add(vec3 radiance, const PathFeatures& features) {
   const bool usable = isFinite(features.albedo) && isFinite(features.normal) &&
                       std::isfinite(features.depth) && isFinite(features.emission);
   const PathFeatures& f = usable ? features : PathFeatures{};
+  const vec3 rest = radiance - f.emission;
   if (count % 2 == 0) {
     sumA += glm::dvec3(radiance);
+    residualSumA += glm::dvec3(rest);
     ++countA;
   }
   // Welford's update, in the same operations as LD's accumulation has always used.
@@ -31,7 +33,12 @@ void FilmPixel::add(vec3 radiance, const PathFeatures& features) {
   const float dd = f.depth - depth;
   depth += dd * inv;
   depthM2 += dd * (f.depth - depth);
-  emission += (f.emission - emission) * inv;
+  const vec3 de = f.emission - emission;
+  emission += de * inv;
+  emissionM2 += de * (f.emission - emission);
+  const vec3 dr = rest - residual;
+  residual += dr * inv;
+  residualM2 += dr * (rest - residual);
 }
 
 vec3 FilmPixel::variance() const { return count > 1 ? vec3(m2 / double(count - 1)) : vec3(0.0f); }
@@ -79,6 +86,7 @@ FilmBuffers Film::buffers() const {
   b.halfA.resize(n);
   b.halfB.resize(n);
   b.emission.resize(n);
+  b.emissionVariance.resize(n);
   b.albedo.resize(n);
   b.albedoVariance.resize(n);
   b.normal.resize(n);
@@ -98,10 +106,17 @@ FilmBuffers Film::buffers() const {
     // Variances of the means of the features: the sample variance over the count.
     const float perSample = px.count > 1 ? 1.0f / (float(px.count - 1) * float(px.count)) : 0.0f;
     b.mean[p] = vec3(px.mean);
-    b.variance[p] = px.varianceOfMean();
-    b.halfA[p] = px.meanA();
-    b.halfB[p] = px.meanB();
+    b.variance[p] = px.residualM2 * perSample;
+    const uint32_t countB = px.count - px.countA;
+    const vec3 restA = px.countA ? vec3(px.residualSumA / double(px.countA)) : vec3(0.0f);
+    const vec3 restB =
+        countB
+            ? vec3((glm::dvec3(px.residual) * double(px.count) - px.residualSumA) / double(countB))
+            : vec3(0.0f);
+    b.halfA[p] = restA + px.emission;
+    b.halfB[p] = restB + px.emission;
     b.emission[p] = px.emission;
+    b.emissionVariance[p] = px.emissionM2 * perSample;
     b.albedo[p] = px.albedo;
     b.albedoVariance[p] = px.albedoM2 * perSample;
     b.normal[p] = px.normal;

@@ -29,7 +29,11 @@ struct FilmPixel {
   vec3 normal{0.0f};
   float normalM2 = 0;  // summed over x, y, z
   float depth = 0, depthM2 = 0;
-  vec3 emission{0.0f};  // running mean of the directly seen emission
+  vec3 emission{0.0f}, emissionM2{0.0f};  // directly seen emission: running mean, deviations
+  // The rest, radiance - emission (what a reconstruction filters): its running mean and
+  // deviations, and the sum over half A.
+  vec3 residual{0.0f}, residualM2{0.0f};
+  glm::dvec3 residualSumA{0.0};
 
   // Adds one finite sample; samples alternate between the halves, A first.
   void add(vec3 radiance, const PathFeatures& f);
@@ -42,11 +46,13 @@ struct FilmPixel {
 };
 
 // What a reconstruction reads, one entry per pixel: the film's means and variances of the
-// mean. Depth is divided by the image's mean depth, so that feature weights do not depend on
-// the scene's units.
+// mean. `variance` is that of the part a filter smooths (radiance - emission), the emission's
+// own is apart; the halves are the filtered part's halves plus the whole emission mean (so
+// that half - emission is the half's filtered part). Depth is divided by the image's mean
+// depth, so that feature weights do not depend on the scene's units.
 struct FilmBuffers {
   int width = 0, height = 0;
-  std::vector<vec3> mean, variance, halfA, halfB, emission;
+  std::vector<vec3> mean, variance, halfA, halfB, emission, emissionVariance;
   std::vector<vec3> albedo, albedoVariance, normal;
   std::vector<float> normalVariance, depth, depthVariance;
 };

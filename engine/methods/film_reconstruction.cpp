@@ -60,8 +60,14 @@ float regulariser(vec3 mean) {
 
 std::vector<float> relativeError(const recon::DenoiseResult& result, const Film& film) {
   std::vector<float> e(film.pixelCount());
-  for (size_t p = 0; p < e.size(); ++p)
-    e[p] = result.mseEstimate[p] / regulariser(result.output.pixels[p]);
+  for (size_t p = 0; p < e.size(); ++p) {
+    // The emission is added back unfiltered: its own variance of the mean adds to the error.
+    const FilmPixel& px = film[p];
+    const float perSample = px.count > 1 ? 1.0f / (float(px.count - 1) * float(px.count)) : 0.0f;
+    const vec3 ev = px.emissionM2 * perSample;
+    e[p] = (result.mseEstimate[p] + (ev.x + ev.y + ev.z) / 3.0f) /
+           regulariser(result.output.pixels[p]);
+  }
   return e;
 }
 

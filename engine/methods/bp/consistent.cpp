@@ -222,7 +222,7 @@ void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
 std::vector<float> ConsistentMethod::allocationError() const {
   std::vector<float> e(s_.pixelCount);
   for (size_t p = 0; p < s_.pixelCount; ++p) e[p] = currentError(p) * networkFactor(p);
-  return smooth3x3(e, s_.width, s_.height);
+  return dilate3x3(e, s_.width, s_.height);
 }
 
 void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {

@@ -68,12 +68,15 @@ TEST(ErrorAllocation, IsDeterministicAndHandlesNonFiniteErrors) {
   EXPECT_GT(a[5], 0u);  // counts as the largest finite error
 }
 
-TEST(ErrorAllocation, Smooth3x3AveragesTheNeighbourhood) {
-  std::vector<float> v(9, 0.0f);
-  v[4] = 9.0f;
-  const auto s = smooth3x3(v, 3, 3);
-  EXPECT_FLOAT_EQ(s[4], 1.0f);
-  EXPECT_FLOAT_EQ(s[0], 9.0f / 4.0f);  // a corner averages its 4 pixels
+TEST(ErrorAllocation, Dilate3x3TakesTheNeighbourhoodsLargest) {
+  std::vector<float> v(16, 0.0f);
+  v[5] = 9.0f;  // (1, 1) of a 4x4 map
+  v[15] = NAN;
+  const auto s = dilate3x3(v, 4, 4);
+  EXPECT_FLOAT_EQ(s[0], 9.0f);
+  EXPECT_FLOAT_EQ(s[10], 9.0f);  // (2, 2) touches (1, 1)
+  EXPECT_FLOAT_EQ(s[3], 0.0f);   // (3, 0) does not
+  EXPECT_FLOAT_EQ(s[15], 0.0f);  // a NaN is skipped
 }
 
 }  // namespace

@@ -64,7 +64,12 @@ TEST(ConsistentBp, TheRawEstimatePassesTheZTestAgainstTheReference) {
   for (size_t i = 0; i < reference.pixels.size(); ++i) {
     const double d = luminance(snap->raw.pixels[i]) - luminance(reference.pixels[i]);
     const double v = luminance(variance.pixels[i]) + luminance(referenceVariance.pixels[i]) + 1e-12;
-    failures += std::erfc(std::abs(d / std::sqrt(v)) / std::sqrt(2.0)) < pixelAlpha;
+    const bool fails = std::erfc(std::abs(d / std::sqrt(v)) / std::sqrt(2.0)) < pixelAlpha;
+    failures += fails;
+    if (fails)
+      ADD_FAILURE() << "pixel " << i << ": " << luminance(snap->raw.pixels[i]) << " against "
+                    << luminance(reference.pixels[i]) << ", z " << d / std::sqrt(v) << ", "
+                    << snap->map(MapId::SampleCount)->values[i] << " samples";
     diffSum += d;
     varSum += v;
   }
