@@ -491,6 +491,18 @@ TEST(DenoiseNonFinite, BadPixelIsKeptAndIgnoredByItsNeighbours) {
     ASSERT_TRUE(isFinite(e.output.pixels[p])) << "pixel " << p;
 }
 
+TEST(DenoiseTiny, ImagesSmallerThanTheWindowsWork) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{3, 2}, std::pair{1, 9}, std::pair{17, 1}}) {
+    const Scene s = gradientScene(w, h, 0.1f, 71);
+    const DenoiseResult r = denoise(s.input(), DenoiseConfig{});
+    ASSERT_EQ(r.output.pixels.size(), size_t(w) * h);
+    for (const vec3& c : r.output.pixels) ASSERT_TRUE(isFinite(c)) << w << "x" << h;
+  }
+  // A single pixel has nothing to average with: it is its own mean.
+  const Scene one = gradientScene(1, 1, 0.1f, 72);
+  EXPECT_EQ(denoise(one.input(), DenoiseConfig{}).output.pixels[0], one.mean[0]);
+}
+
 TEST(DenoiseCancel, CancelledRunReturnsSizedResult) {
   const Scene s = gradientScene(32, 32, 0.1f, 61);
   const std::atomic<bool> cancel{true};
