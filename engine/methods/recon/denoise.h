@@ -9,13 +9,20 @@
 //  - Feature weights on first-hit albedo, normal and depth, variance- and gradient-normalised
 //    (the same RDFC paper).
 //  - Scale selection per pixel by SURE (Li, Wu, Chuang, "SURE-based optimization for adaptive
-//    sampling and reconstruction", SIGGRAPH Asia 2012), in the spirit of greedy error
-//    minimisation (Rousselle, Knaus, Zwicker, SIGGRAPH Asia 2011). The unfiltered mean is
+//    sampling and reconstruction", SIGGRAPH Asia 2012), in the spirit of Rousselle, Knaus,
+//    Zwicker, "Adaptive sampling and reconstruction using greedy error minimization",
+//    SIGGRAPH Asia 2011. The unfiltered mean is
 //    always a candidate, with estimated error V; as V -> 0 with more samples any filter's bias
 //    makes it lose, so the output tends to the mean: the reconstruction is consistent.
 // Directly seen emission is kept out of the filter and added back; the rest is filtered
 // divided by (albedo + eps) and multiplied back, so textures stay sharp.
-// The result depends only on the inputs and the configuration, not on the thread count.
+// Each scale's spatial falloff is a box: every pixel of the (2r+1)^2 window clipped to the
+// image counts alike, as in the NL-means filter of the 2012 paper; the colour and feature
+// weights do the shaping. The result depends only on the inputs and the configuration, not on
+// the thread count.
+// Units: the feature distances of §3 are not normalised. Along a slope of g per pixel in a
+// feature, Phi_j reaches 1 about k_f max(sqrt(tau), g) / g pixels away, so depth should come
+// in units where one surface's pixel-to-pixel steps are small next to sqrt(tau).
 #pragma once
 
 #include "core/image.h"
@@ -37,7 +44,8 @@ struct DenoiseInput {
   // no cross-filtering (weights from `mean`).
   std::span<const vec3> halfA, halfB;
   // Directly seen emission part of `mean` (may be empty = none). What is filtered is
-  // mean - emission; the emission is added back unfiltered.
+  // mean - emission (and half - emission for each half); the emission is added back
+  // unfiltered.
   std::span<const vec3> emission;
   // First-hit features, per pixel means and variances of the mean; any may be empty (= not
   // used; an empty variance next to a given feature counts as 0).
@@ -73,7 +81,7 @@ struct DenoiseResult {
   Image output;                // linear RGB, emission added back
   std::vector<uint8_t> scale;  // per pixel: 0 = identity, i + 1 = radii[i]
   // Per pixel: estimated squared error of output (mean over channels, linear units^2), from
-  // the smoothed SURE of the chosen scale (>= 0).
+  // the smoothed SURE of the chosen scale (>= 0; +inf for a pixel with non-finite input).
   std::vector<float> mseEstimate;
   // Per pixel: estimated variance of the output / variance of the raw mean (1 for identity;
   // clamped to [0, 1]).

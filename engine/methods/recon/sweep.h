@@ -7,6 +7,8 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
+#include <span>
 #include <vector>
 
 namespace penumbra::recon::detail {
@@ -76,6 +78,27 @@ struct ScaleMaps {
 // filter which keeps only the centre pixel ties with it exactly.
 inline float toLinearSum(float x0, float x1, float x2, float d0, float d1, float d2) {
   return x0 * d0 * d0 + x1 * d1 * d1 + x2 * d2 * d2;
+}
+
+// One offset of the sweep (methods/recon/sweep.cpp).
+struct Offset {
+  int dx, dy;
+  int ring;      // index of the smallest radius whose window holds the offset
+  float factor;  // weight of the offset: 1, or the ring's factor beyond denseRadius
+};
+
+// The block sweep of rows [first * blockRows, last * blockRows) (clipped to the image), once
+// per instruction set (sweep_block.inc); false when cancelled.
+using SweepBlocks = bool (*)(const SweepInput& in, const SweepConfig& config,
+                             std::span<const Offset> offsets, int blockRows, int first, int last,
+                             std::vector<ScaleMaps>& out, const std::atomic<bool>* cancel);
+namespace sweep_sse {
+bool sweepBlocks(const SweepInput&, const SweepConfig&, std::span<const Offset>, int, int, int,
+                 std::vector<ScaleMaps>&, const std::atomic<bool>*);
+}
+namespace sweep_avx2 {
+bool sweepBlocks(const SweepInput&, const SweepConfig&, std::span<const Offset>, int, int, int,
+                 std::vector<ScaleMaps>&, const std::atomic<bool>*);
 }
 
 // One map per radius. Pixels that are not valid get output 0, mse +inf and ratio 1.

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <random>
@@ -466,6 +467,20 @@ TEST(DenoiseDeterminism, SameOutputForOneAndTwoThreads) {
   }
 }
 
+// The sweep is compiled for the baseline and for AVX2 and picked at run time; both must give
+// the same bits (on a CPU without AVX2 this compares the baseline with itself).
+TEST(DenoiseDeterminism, SameOutputForEveryInstructionSet) {
+  const Scene s = gradientScene(64, 56, 0.1f, 42);
+  const DenoiseResult widest = denoise(s.input(), DenoiseConfig{});
+  ASSERT_EQ(setenv("PENUMBRA_RECON_SIMD", "sse", 1), 0);
+  const DenoiseResult baseline = denoise(s.input(), DenoiseConfig{});
+  unsetenv("PENUMBRA_RECON_SIMD");
+  for (size_t p = 0; p < widest.output.pixels.size(); ++p) {
+    ASSERT_EQ(widest.output.pixels[p], baseline.output.pixels[p]) << "pixel " << p;
+    ASSERT_EQ(widest.mseEstimate[p], baseline.mseEstimate[p]) << "pixel " << p;
+  }
+}
+
 TEST(DenoiseNonFinite, BadPixelIsKeptAndIgnoredByItsNeighbours) {
   Scene s = gradientScene(48, 40, 0.1f, 51);
   const size_t nanPixel = size_t(20) * s.width + 24, infPixel = size_t(5) * s.width + 7;
@@ -489,6 +504,18 @@ TEST(DenoiseNonFinite, BadPixelIsKeptAndIgnoredByItsNeighbours) {
   const DenoiseResult e = denoise(extreme.input(), DenoiseConfig{});
   for (size_t p = 0; p < e.output.pixels.size(); ++p)
     ASSERT_TRUE(isFinite(e.output.pixels[p])) << "pixel " << p;
+}
+
+TEST(DenoiseTiny, ImagesSmallerThanTheWindowsWork) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{3, 2}, std::pair{1, 9}, std::pair{17, 1}}) {
+    const Scene s = gradientScene(w, h, 0.1f, 71);
+    const DenoiseResult r = denoise(s.input(), DenoiseConfig{});
+    ASSERT_EQ(r.output.pixels.size(), size_t(w) * h);
+    for (const vec3& c : r.output.pixels) ASSERT_TRUE(isFinite(c)) << w << "x" << h;
+  }
+  // A single pixel has nothing to average with: it is its own mean.
+  const Scene one = gradientScene(1, 1, 0.1f, 72);
+  EXPECT_EQ(denoise(one.input(), DenoiseConfig{}).output.pixels[0], one.mean[0]);
 }
 
 TEST(DenoiseCancel, CancelledRunReturnsSizedResult) {
