@@ -31,6 +31,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import quality_per_second  # noqa: E402
+
 SCENES = [  # experiment, scene, the paper's spp, what it shows, methods the paper compared
     ("E1", "stairs", 16, "global illumination", "LD, Fuzzy, GEM, ours"),
     ("E2", "balls", 32, "motion blur", "LD, F-div, GEM, ours"),
@@ -118,6 +121,9 @@ def main():
     ap.add_argument("--figures", default="")
     ap.add_argument("--size", type=int, default=0, help="image side (default: shipped size)")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--only", choices=("all", "quality", "paper"), default="all",
+                    help="quality: only the quality-per-second experiments; paper: only the "
+                    "paper's")
     args = ap.parse_args()
     if args.quick:
         args.size = args.size or 48
@@ -148,6 +154,24 @@ def main():
     for _, scene, _, _, _ in SCENES:
         with open(os.path.join(args.refs, scene + ".json")) as f:
             ref_records[scene] = json.load(f)
+
+    # Quality per second (issue 12): its own generated block of RESULTS.md.
+    if args.only in ("all", "quality"):
+        for scene in quality_per_second.SCENES:
+            if scene not in ref_records:
+                ref = r.reference(scene)
+                record = os.path.join(args.refs, scene + ".json")
+                if not os.path.exists(record):
+                    log("rendering the %s reference at %d spp" % (scene, args.ref_spp))
+                    r.run([args.penumbra, "reference", "scenes/%s.json" % scene, "--spp",
+                           str(args.ref_spp), "-o", ref, "-q"] + r.size)
+                with open(record) as f:
+                    ref_records[scene] = json.load(f)
+        quality_per_second.write(args.docs,
+                                 quality_per_second.run(r, args, figures, ref_records))
+        log("quality per second written to %s" % args.docs)
+        if args.only == "quality":
+            return
 
     # E1-E4 at equal kept spp, then at equal time (BP tuned's time).
     main_results, time_results, rays_results = {}, {}, {}

@@ -38,4 +38,11 @@ for d in E1_stairs E2_balls E3_tire E4_dragon E3_tire_equal_rays fig7_balls_8 fi
   [ -s "$work/repro/$d/results.json" ] || fail "no results for $d"
   [ -s "$work/repro/$d/report.html" ] || fail "no report for $d"
 done
+# Quality per second: its tables, goals and the time-to-quality plot.
+grep -q "## Quality per second" "$docs" || fail "no quality-per-second section"
+grep -qE "^\| tire \| [0-9.]+e-?[0-9]+ \| [0-9.]+ \([0-9.]+\)" "$docs" || fail "no equal-time row for tire"
+grep -q "^- Equal time, BP" "$docs" || fail "no goals"
+for ext in png svg; do
+  [ -s "$work/figures/time_to_quality.$ext" ] || fail "no time-to-quality plot ($ext)"
+done
 echo "reproduce_test: ok"

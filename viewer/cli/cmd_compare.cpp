@@ -21,6 +21,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -297,8 +298,29 @@ Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, 
 
 // One entry of --methods over every seed: its runs' metrics, and the first seed's image and
 // maps.
+// Per pixel, the relative squared error against the reference (mean over channels).
+std::vector<double> relativeSquaredErrors(const Image& image, const Image& reference) {
+  double unused = 0;
+  const Image e = errorImage(image, reference, unused);
+  std::vector<double> v(e.pixels.size());
+  for (size_t p = 0; p < v.size(); ++p) v[p] = e.pixels[p].x;
+  return v;
+}
+
+// The 99.9th percentile of the finite values.
+double percentile999(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return NAN;
+  const size_t k = std::min(v.size() - 1, size_t(0.999 * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+// `speckleLimits`: per seed, the first entry's 99.9th percentile of the per-pixel relative
+// squared error (filled by the first entry, read by the others).
 report::MethodResult runEntry(const CompareFlags& flags, const Entry& e,
-                              const PreparedScene& prepared, const Image& reference) {
+                              const PreparedScene& prepared, const Image& reference,
+                              std::vector<double>& speckleLimits) {
   const double pixels = double(reference.width) * reference.height;
   report::MethodResult result;
   result.label = e.label;
@@ -336,6 +358,12 @@ report::MethodResult runEntry(const CompareFlags& flags, const Entry& e,
     report::MethodRun run;
     run.seed = seed;
     run.metrics = compareImages(image, reference);
+    const std::vector<double> errors = relativeSquaredErrors(image, reference);
+    if (speckleLimits.size() <= size_t(s)) speckleLimits.push_back(percentile999(errors));
+    const double limit = speckleLimits[size_t(s)];
+    run.speckleShare =
+        double(std::count_if(errors.begin(), errors.end(), [&](double x) { return x > limit; })) /
+        double(errors.size());
     run.keptSpp = double(snap->keptSamples) / pixels;
     run.tracedSpp = double(snap->tracedSamples) / pixels;
     run.seconds = snap->seconds - outcome.measuring;
@@ -420,7 +448,9 @@ void run(CompareFlags flags) {
   r.exposure = flags.exposure;
   for (size_t i = 0; i < flags.crops.size(); ++i)
     r.crops.push_back(parseCrop(flags.crops[i], int(i), reference.width, reference.height));
-  for (const Entry& e : entries) r.methods.push_back(runEntry(flags, e, *prepared, reference));
+  std::vector<double> speckleLimits;
+  for (const Entry& e : entries)
+    r.methods.push_back(runEntry(flags, e, *prepared, reference, speckleLimits));
   report::writeReport(flags.outDir, r);
   if (!flags.quiet) printWinner(flags.outDir, r);
 }

@@ -32,7 +32,7 @@ namespace penumbra::report {
 namespace detail {
 
 // ---- Metrics table ------------------------------------------------------------------------
-const std::array<Metric, 11> kMetrics = {{
+const std::array<Metric, 12> kMetrics = {{
     {"mse", [](const MethodRun& r) { return r.metrics.mse; }, Better::Lower},
     {"rel_mse", [](const MethodRun& r) { return r.metrics.relMse; }, Better::Lower},
     {"tone_mapped_mse", [](const MethodRun& r) { return r.metrics.toneMappedMse; }, Better::Lower},
@@ -44,6 +44,7 @@ const std::array<Metric, 11> kMetrics = {{
     {"train", [](const MethodRun& r) { return r.train; }, Better::Unranked},
     {"select", [](const MethodRun& r) { return r.select; }, Better::Unranked},
     {"reconstruct", [](const MethodRun& r) { return r.reconstruct; }, Better::Unranked},
+    {"speckles", [](const MethodRun& r) { return r.speckleShare; }, Better::Lower},
 }};
 
 int winnerOf(const StatTable& stats, size_t k) {

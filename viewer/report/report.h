@@ -9,6 +9,7 @@
 #include "eval/metrics.h"
 #include "methods/snapshot.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -43,6 +44,9 @@ struct MethodRun {
   double keptSpp = 0, tracedSpp = 0;
   double seconds = 0;                                        // total wall time
   double trace = 0, train = 0, select = 0, reconstruct = 0;  // phase times, seconds
+  // Speckles: the share of pixels whose relative squared error exceeds the 99.9th percentile
+  // of the first method's (the same seed); NaN where it was not measured.
+  double speckleShare = NAN;
   // Time to quality, in order of time, the last point the run's end (the metrics above);
   // empty when compare ran without curves.
   std::vector<CurvePoint> curve;

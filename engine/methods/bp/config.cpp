@@ -62,7 +62,11 @@ std::string BpConfig::validate(const RunShape& shape) const {
 void applyBpPreset(BpConfig& config, BpPreset preset) {
   const BpConfig paper;
   const bool tuned = preset == BpPreset::Tuned;
-  config.algorithm = preset == BpPreset::Consistent ? BpAlgorithm::Consistent : paper.algorithm;
+  const bool consistent = preset == BpPreset::Consistent;
+  config.algorithm = consistent ? BpAlgorithm::Consistent : paper.algorithm;
+  // The networks only indicate sub-pixel structure there (docs/RESULTS.md: they add little):
+  // a third of the paper's epochs bounds their cost.
+  config.network.epochs = consistent ? 20 : paper.network.epochs;
   config.outlierRemoval = tuned ? false : paper.outlierRemoval;
   config.warping = tuned ? false : paper.warping;
   config.stratifiedMean = tuned ? false : paper.stratifiedMean;
