@@ -51,7 +51,8 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
   if (floorsOnly > double(budget)) floorScale = double(budget) / floorsOnly;
   double lo = 0, hi = 1;
   while (spend(hi, floorScale, nullptr) < double(budget) && hi < 1e30) hi *= 2;
-  for (int i = 0; i < 60 && floorsOnly <= double(budget); ++i) {
+  // To a relative 1e-5: the shares are rounded to whole samples anyway.
+  for (int i = 0; i < 60 && floorsOnly <= double(budget) && hi - lo > 1e-5 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
     (spend(mid, floorScale, nullptr) < double(budget) ? lo : hi) = mid;
   }

@@ -52,6 +52,7 @@ class ConsistentMethod final : public ProgressiveMethod {
         film_(s_.width, s_.height),
         trainedAt_(s_.pixelCount, 0),
         drawn_(s_.pixelCount, 0),
+        rays_(s_.pixelCount, 0),
         errorAtReconstruction_(s_.pixelCount, 0.0f),
         countAtReconstruction_(s_.pixelCount, 0),
         setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {}
@@ -99,6 +100,10 @@ class ConsistentMethod final : public ProgressiveMethod {
   // into its reservoir); the coarse pass keeps them in `coarse` instead.
   void tracePixel(size_t p, uint32_t count, TraceChunk& chunk, std::vector<TracedSample>* coarse);
   void trainDue(const std::atomic<bool>* cancel);
+  void countKept() {
+    s_.kept = 0;
+    for (size_t p = 0; p < s_.pixelCount; ++p) s_.kept += film_[p].count;
+  }
   // Refreshes the filtered image's error estimate (for the noise threshold), when the film
   // grew enough.
   void refreshErrors(const std::atomic<bool>* cancel);
@@ -118,6 +123,7 @@ class ConsistentMethod final : public ProgressiveMethod {
   Film film_;
   std::vector<uint32_t> trainedAt_;  // kept samples at the network's last training
   std::vector<uint32_t> drawn_;      // sample indices used from the pixel's stream
+  std::vector<uint32_t> rays_;       // rays its samples cast: their cost
   std::vector<float> errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
   uint64_t spentAtReconstruction_ = 0;
@@ -136,13 +142,16 @@ void ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
     chunk.sampler.startSample(px, py, drawn_[p]++);
     const CameraSample cs = chunk.sampler.cameraSample(prepared.usesLens, prepared.usesTime);
     PathFeatures features;
+    const uint64_t raysBefore = chunk.counters.rays;
     const vec3 L = traceRadiance(prepared, cs, chunk.sampler, chunk.counters, &features);
+    rays_[p] += uint32_t(chunk.counters.rays - raysBefore);
     ++pixel.traced;
     if (!isFinite(L)) {
       ++chunk.nonFinite;
       continue;
     }
     film_[p].add(L, features);
+    if (!usesNetworks()) continue;  // the reservoirs only feed the networks
     if (coarse)
       coarse->push_back({cs, L});
     else
@@ -181,8 +190,7 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
         }
       });
   s_.spent = s_.traced = uint64_t(s_.coarseSpp) * pixelCount;
-  s_.kept = 0;
-  for (const PixelState& px : s_.store.pixels) s_.kept += px.kept;
+  countKept();
   std::fill(s_.selected.begin(), s_.selected.end(), uint8_t(1));
   s_.times.trace += secondsSince(start);
   trainDue(cancel);
@@ -228,8 +236,21 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // the filtered image's SURE estimate instead (RECONSTRUCTION.md §5 as written) gave a worse
   // filtered image than uniform sampling (1.1e-4 against 4.0e-5): SURE under-estimates the
   // error where it chose a wide filter, and those pixels starve; by the raw variance, 2.7e-5.
+  // A sample costs its rays: minimising the error at equal time rather than equal samples
+  // divides each pixel's error by its cost per sample relative to the image's (the water-
+  // filling then gives n ~ sqrt(e n / cost)), so a pixel of long paths is not over-sampled.
   const std::vector<float> raw = rawRelativeError(film_);
-  for (size_t p = 0; p < s_.pixelCount; ++p) e[p] = raw[p] * networkFactor(p);
+  double rays = 0, samples = 0;
+  for (size_t p = 0; p < s_.pixelCount; ++p) {
+    rays += rays_[p];
+    samples += s_.pixel(p).traced;
+  }
+  const double meanCost = samples > 0 && rays > 0 ? rays / samples : 1.0;
+  for (size_t p = 0; p < s_.pixelCount; ++p) {
+    const double cost =
+        s_.pixel(p).traced && rays_[p] ? double(rays_[p]) / s_.pixel(p).traced / meanCost : 1.0;
+    e[p] = float(raw[p] * networkFactor(p) / cost);
+  }
   return dilate3x3(e, s_.width, s_.height);
 }
 
@@ -238,7 +259,16 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   refreshErrors(cancel);
   if (cancel && cancel->load()) return;
   auto start = Clock::now();
-  const uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
+  uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
+  if (s_.shape.openEnded) {
+    // Open-ended, a round adds at least an eighth of what is spent (still capped by maxSpp),
+    // so that the per-round ranking costs little beside tracing as samples accumulate; the
+    // session publishes a few snapshots a second whatever the round length.
+    budget = std::max(budget, s_.spent / 8);
+    if (s_.schedule.totalBudget() > 0)
+      budget = std::min(budget,
+                        s_.schedule.totalBudget() - std::min(s_.spent, s_.schedule.totalBudget()));
+  }
   std::vector<uint32_t> counts(pixelCount);
   for (size_t p = 0; p < pixelCount; ++p) counts[p] = film_[p].count;
   const std::vector<uint32_t> slots = allocateByError(
@@ -264,9 +294,9 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
                       uint64_t local = 0;
                       for (size_t i = range.begin(); i < range.end(); ++i) {
                         const uint32_t p = chosen[i];
-                        const uint32_t before = s_.pixel(p).kept;
+                        const uint32_t before = film_[p].count;
                         tracePixel(p, slots[p], chunk, nullptr);
-                        s_.pixel(p).addedLastRound = s_.pixel(p).kept - before;
+                        s_.pixel(p).addedLastRound = film_[p].count - before;
                         local += slots[p];
                       }
                       spent += local;
@@ -274,8 +304,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   if (cancel && cancel->load()) return;
   s_.spent += spent;
   s_.traced += spent;
-  s_.kept = 0;
-  for (const PixelState& px : s_.store.pixels) s_.kept += px.kept;
+  countKept();
   s_.times.trace += secondsSince(start);
   trainDue(cancel);
 }
