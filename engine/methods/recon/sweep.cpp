@@ -39,8 +39,6 @@ constexpr int kMaxBlockRows = 16;
 constexpr int kMinBlockRows = 4;
 // Bytes of a block's sums that should stay in a core's cache.
 constexpr size_t kSumsBudget = size_t(1) << 20;
-// Sums per stream, ring and pixel (sweep_block.inc).
-constexpr int kSums = 7;
 
 // Denormal numbers (products of tiny weights) are very slow on x86; the sweep flushes them to
 // zero, the same in every thread, and restores the caller's mode afterwards.
@@ -129,7 +127,8 @@ std::vector<ScaleMaps> sweepScales(const SweepInput& in, const SweepConfig& conf
   }
   if (config.radii.empty()) return out;
   const std::vector<Offset> offsets = sweepOffsets(config);
-  const size_t rowBytes = config.radii.size() * in.streams * kSums * sizeof(float) * in.width;
+  const size_t rowBytes =
+      config.radii.size() * in.streams * kSumsPerStream * sizeof(float) * in.width;
   const int blockRows =
       std::clamp(int(kSumsBudget / std::max<size_t>(rowBytes, 1)), kMinBlockRows, kMaxBlockRows);
   const int blocks = (in.height + blockRows - 1) / blockRows;

@@ -80,6 +80,9 @@ inline float toLinearSum(float x0, float x1, float x2, float d0, float d1, float
   return x0 * d0 * d0 + x1 * d1 * d1 + x2 * d2 * d2;
 }
 
+// A block's sums per stream, ring and pixel: sum w, sum w y_c (3), sum w^2 sigma^2_c (3).
+inline constexpr int kSumsPerStream = 7;
+
 // One offset of the sweep (methods/recon/sweep.cpp).
 struct Offset {
   int dx, dy;
