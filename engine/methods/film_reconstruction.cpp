@@ -13,6 +13,9 @@ const ParamTable<recon::DenoiseConfig>& denoiseParams() {
         .real(
             "nl-k", "colour k", "NL-means colour strength k (RECONSTRUCTION.md section 2)",
             [](auto& c) -> auto& { return c.k; }, 1e-3, 100, {0.05, 2}, true)
+        .integer("sure-smooth", "SURE smoothing",
+                 "Box radius over which each scale's SURE map is smoothed before the choice",
+                 [](auto& c) -> auto& { return c.sureSmoothRadius; }, 0, 16, {0, 6})
         .real(
             "feature-k", "feature k_f", "Feature weight strength k_f (section 3)",
             [](auto& c) -> auto& { return c.kFeature; }, 1e-3, 100, {0.05, 4}, true)

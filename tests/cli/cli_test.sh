@@ -146,7 +146,7 @@ expect_fail "diff size mismatch" "image sizes differ: $work/a.exr is 32x32, $wor
 [ -n "$(find "$work" -name '*.tmp-*')" ] && { echo "FAIL: temporary files left behind"; failures=$((failures + 1)); }
 
 # The BP method: output, raw estimate, debug maps and statistics; same bytes for 1 and 2 threads.
-expect_ok "render bp" "$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp.pfm" --raw-out "$work/bp_raw.exr" --aov-dir "$work/aov" --stats "$work/bp.json" --threads 1 -q
+expect_ok "render bp" "$penumbra" render "$cornell" --method bp --preset paper --size 24x24 --spp 8 -o "$work/bp.pfm" --raw-out "$work/bp_raw.exr" --aov-dir "$work/aov" --stats "$work/bp.json" --threads 1 -q
 for f in bias.exr bias.png network_error.png prediction.png selected.png slice_b.png slice_c.png samples.png traced.png alpha.png raw.exr reconstructed.exr; do
   [ -s "$work/aov/$f" ] || { echo "FAIL: --aov-dir lacks $f"; failures=$((failures + 1)); }
 done
@@ -154,7 +154,7 @@ for key in kept_spp traced_spp rounds phases train select reconstruct trace bias
   grep -q "\"$key\"" "$work/bp.json" || { echo "FAIL: bp stats lack $key"; failures=$((failures + 1)); }
 done
 grep -q '"kept_spp": 8.0' "$work/bp.json" && passes=$((passes + 1)) || { echo "FAIL: bp kept spp is not 8"; failures=$((failures + 1)); }
-"$penumbra" render "$cornell" --method bp --size 24x24 --spp 8 -o "$work/bp2.pfm" --threads 2 -q
+"$penumbra" render "$cornell" --method bp --preset paper --size 24x24 --spp 8 -o "$work/bp2.pfm" --threads 2 -q
 cmp -s "$work/bp.pfm" "$work/bp2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the bp image"; failures=$((failures + 1)); }
 expect_ok "bp ablations" "$penumbra" render "$cornell" --method bp --size 16x16 --spp 8 -o "$work/bpa.exr" -q --inputs 5 --targets pixel-mean --prediction-draws 1 --candidate-mode predicted --no-warping --no-outlier-removal --no-second-pass --plain-mean --no-top-up --no-reconstruct --learning-rate proportional
 expect_ok "bp tuned preset" "$penumbra" render "$cornell" --method bp --preset tuned --size 16x16 --spp 8 -o "$work/bpt.exr" --stats "$work/bpt.json" -q

@@ -271,8 +271,36 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   }
   std::vector<uint32_t> counts(pixelCount);
   for (size_t p = 0; p < pixelCount; ++p) counts[p] = film_[p].count;
-  const std::vector<uint32_t> slots = allocateByError(
-      allocationError(), counts, budget, s_.config.allocation, s_.shape.seed, s_.adaptiveRounds);
+  ErrorAllocation allocation = s_.config.allocation;
+  std::vector<float> error = allocationError();
+  if (s_.shape.noiseThreshold > 0 && reconstructedAtRound_ >= 0) {
+    // The threshold is on the filtered image: its converged pixels get nothing.
+    for (size_t p = 0; p < pixelCount; ++p)
+      if (currentError(p) < s_.shape.noiseThreshold) error[p] = 0;
+    allocation.noiseThreshold = 1e-30f;
+  }
+  std::vector<uint32_t> slots =
+      allocateByError(error, counts, budget, allocation, s_.shape.seed, s_.adaptiveRounds);
+  // The coins leave the total a few samples off the budget: settle the difference on the
+  // pixels of highest (to add) or lowest (to take) error, so a batch spends exactly its spp.
+  {
+    uint64_t total = 0;
+    for (uint32_t v : slots) total += v;
+    std::vector<uint32_t> order(pixelCount);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return error[a] > error[b]; });
+    for (size_t i = 0; total < budget && !order.empty(); i = (i + 1) % order.size()) {
+      if (error[order[i]] <= 0 && allocation.noiseThreshold > 0) break;
+      ++slots[order[i]];
+      ++total;
+    }
+    for (size_t i = order.size(); total > budget && i-- > 0;)
+      if (slots[order[i]] > 0) {
+        --slots[order[i]];
+        --total;
+      }
+  }
   std::vector<uint32_t> chosen;
   for (uint32_t p = 0; p < pixelCount; ++p) {
     s_.selected[p] = slots[p] > 0;

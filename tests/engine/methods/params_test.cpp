@@ -86,7 +86,11 @@ TEST(Params, TheBaselinesShareTheScheduleAndKeepTheirOwn) {
     EXPECT_EQ(names.count("divergence"), kind == MethodKind::FDiv ? 1u : 0u);
     EXPECT_EQ(names.count("gamma"), kind == MethodKind::Gem ? 1u : 0u);
   }
-  EXPECT_TRUE(methodParams(MethodKind::Ld).empty());
+  // LD's own: whether it filters, and the filter's parameters it shares with BP.
+  std::set<std::string> ld;
+  for (const MethodParam& p : methodParams(MethodKind::Ld)) ld.insert(p.name);
+  EXPECT_TRUE(ld.count("filter") && ld.count("nl-k") && ld.count("cross-filter"));
+  EXPECT_EQ(ld.count("rounds"), 0u);
 }
 
 }  // namespace

@@ -38,7 +38,9 @@ TEST(Session, RunsToTheEndAndPublishesTheFinalSnapshot) {
   ASSERT_NE(snap, nullptr);
   EXPECT_TRUE(snap->final);
   EXPECT_EQ(snap->keptSamples, 8u * 16 * 16);
-  EXPECT_EQ(uint64_t(snap->round), session.version());
+  // Publishing is throttled (a few a second): the first round and the last at least.
+  EXPECT_LE(session.version(), uint64_t(snap->round));
+  EXPECT_GE(session.version(), 2u);
 }
 
 TEST(Session, StepRunsOneRoundThenPauses) {
