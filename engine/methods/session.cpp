@@ -244,8 +244,7 @@ void RenderSession::worker() {
         const auto snapshotStart = std::chrono::steady_clock::now();
         snapshot = method->snapshot(true, &cancelRound_);
         lastSnapshotCost =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - snapshotStart)
-                .count();
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - snapshotStart).count();
         lastPublish = std::chrono::steady_clock::now();
         publishedOnce = true;
         if (cancelRound_) snapshot.reset();  // cut short: it belongs to the old method

@@ -24,7 +24,7 @@ TEST(Film, TheMeanIsWelfordsInSampleOrderAndTheHalvesAlternate) {
   EXPECT_EQ(px.mean, mean);  // bit for bit
   EXPECT_EQ(px.m2, m2);
   EXPECT_EQ(px.count, 5u);
-  EXPECT_EQ(px.countA, 3u);                                  // samples 0, 2, 4
+  EXPECT_EQ(px.countA, 3u);                                 // samples 0, 2, 4
   EXPECT_FLOAT_EQ(px.meanA().x, (1.0f + 2.0f + 0.5f) / 3);  // A
   EXPECT_FLOAT_EQ(px.meanB().x, (3.0f + 10.0f) / 2);        // B
   EXPECT_FLOAT_EQ(px.varianceOfMean().x, float(m2.x / (4.0 * 5.0)));
@@ -67,7 +67,7 @@ TEST(Film, FeaturesAreRunningMeansWithVariancesAndBrokenOnesAreDropped) {
   const FilmBuffers buffers = film.buffers();
   EXPECT_NEAR(buffers.albedo[0].x, (0.2f + 0.6f + 1.0f) / 3, 1e-6f);
   EXPECT_NEAR(buffers.emission[0].x, 1.0f / 3, 1e-6f);  // the broken sample adds none
-  EXPECT_NEAR(buffers.depth[0], 1.0f, 1e-6f);  // divided by the image's mean depth
+  EXPECT_NEAR(buffers.depth[0], 1.0f, 1e-6f);           // divided by the image's mean depth
   EXPECT_GT(buffers.albedoVariance[0].x, 0.0f);
   EXPECT_GT(buffers.normalVariance[0], 0.0f);
 }

@@ -4,8 +4,8 @@
 
 #include "tests/test_paths.h"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include <cstring>
 
@@ -14,7 +14,8 @@ namespace {
 
 TEST(PathFeatures, RecordingThemChangesNoRadianceAndConsumesNoRandomNumbers) {
   auto prepared = test::shippedScene("cornell", 16);
-  PixelSampler plain(SamplerKind::LowDiscrepancy, 5, 8), recorded(SamplerKind::LowDiscrepancy, 5, 8);
+  PixelSampler plain(SamplerKind::LowDiscrepancy, 5, 8),
+      recorded(SamplerKind::LowDiscrepancy, 5, 8);
   PathCounters a, b;
   int emitterPixels = 0;
   for (int y = 0; y < 16; ++y)
