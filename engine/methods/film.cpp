@@ -104,7 +104,7 @@ FilmBuffers Film::buffers() const {
   for (size_t p = 0; p < n; ++p) {
     const FilmPixel& px = pixels_[p];
     // Variances of the means of the features: the sample variance over the count.
-    const float perSample = px.count > 1 ? 1.0f / (float(px.count - 1) * float(px.count)) : 0.0f;
+    const float perSample = px.meanVarianceScale();
     b.mean[p] = vec3(px.mean);
     b.variance[p] = px.residualM2 * perSample;
     const uint32_t countB = px.count - px.countA;

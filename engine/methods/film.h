@@ -39,7 +39,11 @@ struct FilmPixel {
   void add(vec3 radiance, const PathFeatures& f);
   vec3 variance() const;        // per channel: unbiased sample variance (0 below 2 samples)
   vec3 varianceOfMean() const;  // variance() / count
-  vec3 meanA() const;           // the halves' means (0 while empty)
+  // 1 / ((n - 1) n): turns a running sum of squared deviations into a variance of the mean.
+  float meanVarianceScale() const {
+    return count > 1 ? 1.0f / (float(count - 1) * float(count)) : 0.0f;
+  }
+  vec3 meanA() const;  // the halves' means (0 while empty)
   vec3 meanB() const;
   // (A - B)^2 nA nB / n^2: the two-buffer estimate of the variance of the mean.
   vec3 halfVarianceOfMean() const;

@@ -66,8 +66,7 @@ std::vector<float> relativeError(const recon::DenoiseResult& result, const Film&
   for (size_t p = 0; p < e.size(); ++p) {
     // The emission is added back unfiltered: its own variance of the mean adds to the error.
     const FilmPixel& px = film[p];
-    const float perSample = px.count > 1 ? 1.0f / (float(px.count - 1) * float(px.count)) : 0.0f;
-    const vec3 ev = px.emissionM2 * perSample;
+    const vec3 ev = px.emissionM2 * px.meanVarianceScale();
     e[p] = (result.mseEstimate[p] + (ev.x + ev.y + ev.z) / 3.0f) /
            regulariser(result.output.pixels[p]);
   }
