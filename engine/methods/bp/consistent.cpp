@@ -384,13 +384,7 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
   addSelectedMap(*snap, s_.selected);
   addSampleCountMaps(*snap, kept, traced);
   for (uint32_t c : kept) snap->keptSamples += c;
-  snap->tracedSamples = s_.traced;
-  snap->rays = s_.counters.rays;
-  snap->nonFiniteSamples = s_.counters.nonFinite;
-  snap->times = s_.times;
-  snap->trainingFlops = s_.trainingFlops;
-  snap->trainingKernelSeconds = s_.trainingSeconds;
-  snap->seconds = secondsSince(s_.start);
+  s_.reportCounts(*snap);
   return snap;
 }
 

@@ -183,14 +183,7 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
   }
   if (reconstructImage) s_.times.reconstruct += secondsSince(start);
   snap->keptSamples = s_.kept;
-  snap->tracedSamples = s_.traced;
-  snap->rays = s_.counters.rays;
-  snap->nonFiniteSamples = s_.counters.nonFinite;
-  snap->rejectedSamples = s_.counters.rejected;
-  snap->times = s_.times;
-  snap->trainingFlops = s_.trainingFlops;
-  snap->trainingKernelSeconds = s_.trainingSeconds;
-  snap->seconds = secondsSince(s_.start);
+  s_.reportCounts(*snap);
   return snap;
 }
 

@@ -50,6 +50,18 @@ struct BpState {
 
   const PixelState& pixel(size_t p) const { return store.pixels[p]; }
   PixelState& pixel(size_t p) { return store.pixels[p]; }
+  // The counts and times every BP snapshot reports (traced samples, rays, dropped samples,
+  // phase times, training work, wall time).
+  void reportCounts(Snapshot& snap) const {
+    snap.tracedSamples = traced;
+    snap.rays = counters.rays;
+    snap.nonFiniteSamples = counters.nonFinite;
+    snap.rejectedSamples = counters.rejected;
+    snap.times = times;
+    snap.trainingFlops = trainingFlops;
+    snap.trainingKernelSeconds = trainingSeconds;
+    snap.seconds = method::secondsSince(start);
+  }
   bool cancelled(const std::atomic<bool>* cancel) const {
     return cancel && cancel->load(std::memory_order_relaxed);
   }
