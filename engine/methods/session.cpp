@@ -143,7 +143,8 @@ bool RenderSession::wait(double timeoutSeconds) {
   const auto until = std::chrono::steady_clock::now() +
                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                          std::chrono::duration<double>(std::min(timeoutSeconds, 1e9)));
-  return idle_.wait_until(lock, until, [this] { return state_ != State::Running; });
+  return idle_.wait_until(lock, until,
+                          [this] { return state_ != State::Running && !publishPending_; });
 }
 
 void RenderSession::worker() {
@@ -193,9 +194,29 @@ void RenderSession::worker() {
   std::unique_lock lock(mutex_);
   while (true) {
     wake_.wait(lock,
-               [&] { return quit_ || state_ == State::Running || (inspectPending_ && method); });
+               [&] {
+      return quit_ || state_ == State::Running || (inspectPending_ && method) || publishPending_;
+    });
     if (quit_) return;
     if (state_ != State::Running) {
+      if (publishPending_ && method && methodGeneration == generation_) {
+        const uint64_t generation = generation_;
+        lock.unlock();
+        std::shared_ptr<Snapshot> snapshot;
+        try {
+          arena.execute([&] { snapshot = method->snapshot(true, nullptr); });
+        } catch (const std::exception&) {
+          snapshot.reset();  // the next round reports the failure
+        }
+        lock.lock();
+        if (snapshot && generation == generation_) {
+          latest_ = std::move(snapshot);
+          latestGeneration_ = generation;
+          ++version_;
+        }
+      }
+      publishPending_ = false;
+      idle_.notify_all();
       // Only an inspection was asked for, between rounds.
       if (methodGeneration == generation_)
         takeInspection(lock);
@@ -275,6 +296,9 @@ void RenderSession::worker() {
       continue;
     }
     const bool published = snapshot != nullptr;
+    // A round whose snapshot the throttle skipped is published once the session pauses, so
+    // a paused view shows every sample traced (and a step then adds exactly one round).
+    publishPending_ = !published && !finished;
     if (snapshot) {
       latest_ = std::move(snapshot);
       latestGeneration_ = generation;

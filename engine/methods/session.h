@@ -84,6 +84,7 @@ class RenderSession {
   std::atomic<uint64_t> version_{0};
   int inspectX_ = -1, inspectY_ = -1;
   bool inspectPending_ = false;  // a new pixel was asked for
+  bool publishPending_ = false;  // a round ran whose snapshot the throttle skipped
   std::shared_ptr<const PixelInspection> inspection_;
   std::atomic<uint64_t> inspectionVersion_{0};
   std::thread thread_;

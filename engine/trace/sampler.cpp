@@ -42,7 +42,8 @@ const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
 
 uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
   const uint32_t block = sampleIndex_ & ~(setSize_ - 1);
-  return block | permuteIndex(sampleIndex_ & (setSize_ - 1), setSize_, k.shuffle);
+  const uint32_t key = block ? mixBits32(k.shuffle ^ mixBits32(block)) : k.shuffle;
+  return block | permuteIndex(sampleIndex_ & (setSize_ - 1), setSize_, key);
 }
 
 CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {

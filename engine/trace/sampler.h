@@ -6,7 +6,9 @@
 //   scrambled (0,2) set per integrator dimension pair (ALGORITHM.md §10.1, after
 //   pbrt-v2's LDPixelSample). The sample order is shuffled per dimension within blocks
 //   of `setSize` (a power of two), so each dimension stays stratified while dimensions
-//   decorrelate; the block structure keeps the sequence extensible past setSize.
+//   decorrelate; the block structure keeps the sequence extensible past setSize. Each
+//   block has its own shuffles: with one shuffle for all blocks, the dimensions of a pixel
+//   would pair the same way in every block, and the estimate would stop converging.
 // - Independent: uniform random numbers from a per-(pixel, sample) PCG32 stream.
 #pragma once
 
@@ -38,19 +40,34 @@ inline float sobol2(uint32_t index, uint32_t scramble) {
   return toUnitFloat(scramble);
 }
 
-// Bijection of [0, n) for n a power of two, chosen by `key`: rounds of xor, odd multiply
-// and xor-shift, each invertible modulo 2^k (after Kensler's hashed permutation).
+// A 32-bit integer hash (xorshift-multiply rounds) for deriving keys.
+inline uint32_t mixBits32(uint32_t v) {
+  v ^= v >> 16;
+  v *= 0x7feb352du;
+  v ^= v >> 15;
+  v *= 0x846ca68bu;
+  v ^= v >> 16;
+  return v;
+}
+
+// Bijection of [0, n) for n a power of two, chosen by `key`. Every step is invertible modulo
+// n = 2^b: xor with the key, multiply by an odd number, and xorshifts down by about b/2 and b/3
+// bits, so that every output bit depends on every input bit; three rounds with fresh keys.
+// (Shifts fixed at a few bits, as a 32-bit hash would use, leave the low output bits a
+// function of the low input bits once n is large, which correlates the dimensions of a pixel.)
 inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+  if (n <= 1) return 0;
   const uint32_t mask = n - 1;
-  i ^= key;
-  i *= 0xe170893du | (key >> 16) | 1u;
-  i ^= (i & mask) >> 3;
-  i ^= key >> 8;
-  i *= 0x0929eb3fu;
-  i ^= (i & mask) >> 2;
-  i *= 0x6935fa69u;
-  i ^= (i & mask) >> 1;
-  return i & mask;
+  const int bits = __builtin_ctz(n);
+  const int half = (bits + 1) / 2, third = bits / 3 > 0 ? bits / 3 : 1;
+  for (int round = 0; round < 3; ++round) {
+    i = ((i ^ key) * ((key >> 8) | 1u)) & mask;
+    i ^= i >> half;
+    i = (i * 0x2c1b3c6du) & mask;
+    i ^= i >> third;
+    key = mixBits32(key + 0x9e3779b9u);
+  }
+  return i;
 }
 
 uint32_t roundUpPowerOfTwo(uint32_t v);

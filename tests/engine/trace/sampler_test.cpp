@@ -73,11 +73,7 @@ TEST(Sampler, LaterBlocksAreStratifiedToo) {
 }
 
 TEST(Sampler, NeighbouringPixelsGetDifferentSampleOrders) {
-  // Two pixels' sets, each shuffled by its own key, pair their samples differently. This is
-  // not a test of decorrelation between the dimensions of one pixel: the shortened Kensler
-  // permutation (permuteIndex) does not give that above 256 samples (docs/ARCHITECTURE.md,
-  // "Known defects"); a stronger permutation changes every LD image, so it waits for an
-  // issue that may change them.
+  // Two pixels' sets, each shuffled by its own key, pair their samples differently.
   PixelSampler sampler(SamplerKind::LowDiscrepancy, 99, 64);
   const PixelPoints a = drawPixel(sampler, 0, 0, 0, 64);
   const PixelPoints b = drawPixel(sampler, 1, 0, 0, 64);
@@ -87,8 +83,45 @@ TEST(Sampler, NeighbouringPixelsGetDifferentSampleOrders) {
   EXPECT_LT(sameOrder, 32);
 }
 
+// Chi-square per degree of freedom of the pairs (a[i], b[i]) on an 8x8 grid: about 1 (or
+// less, both marginals being stratified) when the two dimensions pair at random.
+double pairChiSquare(const std::vector<float>& a, const std::vector<float>& b) {
+  constexpr int kCells = 8;
+  std::vector<double> counts(kCells * kCells, 0.0);
+  for (size_t i = 0; i < a.size(); ++i)
+    counts[size_t(int(a[i] * kCells) * kCells + int(b[i] * kCells))] += 1;
+  const double expected = double(a.size()) / (kCells * kCells);
+  double chi = 0;
+  for (double c : counts) chi += (c - expected) * (c - expected) / expected;
+  return chi / (kCells * kCells - 1);
+}
+
+// The dimensions of one pixel pair independently at every sample count, within one large
+// block and across many small ones: a correlation there is an error that stops falling
+// with more samples (the image converges to a wrong value per seed).
+TEST(Sampler, DimensionsOfAPixelPairIndependently) {
+  for (uint32_t setSize : {4096u, 64u}) {
+    for (auto [px, py] : {std::pair{0, 0}, std::pair{112, 104}, std::pair{203, 153}}) {
+      PixelSampler sampler(SamplerKind::LowDiscrepancy, 5, setSize);
+      const PixelPoints p = drawPixel(sampler, px, py, 0, 4096);
+      std::vector<float> imageX, lensU, lensV, pathX, pathY;
+      for (size_t i = 0; i < p.image.size(); ++i) {
+        imageX.push_back(p.image[i].x);
+        lensU.push_back(p.lens[i].x);
+        lensV.push_back(p.lens[i].y);
+        pathX.push_back(p.integrator[i].x);
+        pathY.push_back(p.integrator[i].y);
+      }
+      // Before the per-block keys and the full-width permutation these were 3 to 27.
+      EXPECT_LT(pairChiSquare(lensU, pathX), 2.0) << "set " << setSize << " pixel " << px;
+      EXPECT_LT(pairChiSquare(imageX, p.time), 2.0) << "set " << setSize << " pixel " << px;
+      EXPECT_LT(pairChiSquare(lensV, pathY), 2.0) << "set " << setSize << " pixel " << px;
+    }
+  }
+}
+
 TEST(Sampler, PermutationIsABijection) {
-  for (uint32_t n : {1u, 2u, 8u, 64u, 1024u}) {
+  for (uint32_t n : {1u, 2u, 8u, 64u, 1024u, 65536u}) {
     for (uint32_t key : {0u, 1u, 0xdeadbeefu}) {
       std::set<uint32_t> seen;
       for (uint32_t i = 0; i < n; ++i) seen.insert(permuteIndex(i, n, key));
