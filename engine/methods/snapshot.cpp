@@ -13,7 +13,8 @@ namespace penumbra {
 namespace {
 
 // The one table of map names. The overlays (key > 0) come first, in key order: the viewer's
-// number keys, its overlay list and --overlay follow it; the --aov-dir files are named by it.
+// number keys (1-9; overlays past 9 are in the panel's list and --overlay only), its overlay
+// list and --overlay follow it; the --aov-dir files are named by it.
 constexpr std::array<MapInfo, 15> kMaps = {{
     {MapId::ErrorEstimate, "bias", nullptr, "Bias (error estimate)", 1},
     {MapId::Selected, "selected", "slices", "Selected pixels and slices", 2},
@@ -22,11 +23,11 @@ constexpr std::array<MapInfo, 15> kMaps = {{
     {MapId::TracedCount, "traced", nullptr, "Traced samples", 5},
     {MapId::NetworkError, "network_error", nullptr, "Network error er", 6},
     {MapId::ReferenceError, "reference_error", nullptr, "Error vs reference", 7},
-    {MapId::Albedo, "albedo", nullptr, "Albedo (first hit)", 0},
-    {MapId::Normal, "normal", nullptr, "Normal (first hit)", 0},
-    {MapId::Depth, "depth", nullptr, "Depth (first hit)", 0},
-    {MapId::Emission, "emission", nullptr, "Directly seen emission", 0},
-    {MapId::RawError, "raw_error", nullptr, "Raw estimate's relMSE (estimated)", 0},
+    {MapId::Albedo, "albedo", nullptr, "Albedo (first hit)", 8},
+    {MapId::Normal, "normal", nullptr, "Normal (first hit)", 9},
+    {MapId::Depth, "depth", nullptr, "Depth (first hit)", 10},
+    {MapId::Emission, "emission", nullptr, "Directly seen emission", 11},
+    {MapId::RawError, "raw_error", nullptr, "Raw estimate's relMSE (estimated)", 12},
     {MapId::Prediction, "prediction", nullptr, "Network prediction I'", 0},
     {MapId::SliceB, "slice_b", nullptr, "Slice B", 0},
     {MapId::SliceC, "slice_c", nullptr, "Slice C", 0},

@@ -87,7 +87,7 @@ struct MapInfo {
   const char* name;        // --overlay NAME and the --aov-dir file stem
   const char* alias;       // another name --overlay accepts, or nullptr
   const char* panelLabel;  // the viewer's overlay list
-  int key;                 // the viewer's number key, 1...; 0: not an overlay (files only)
+  int key;  // overlay order, 1...: keys 1-9 are the viewer's number keys; 0: files only
 };
 
 // Every map but None: the overlays first, in the order of their keys, then the others.

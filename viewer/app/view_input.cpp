@@ -46,7 +46,7 @@ void ViewerApp::keyEvent(int key, bool down, int mods) {
   if (key >= 0 && key < 512) input_.held[key] = down;
   if (!down) return;
   const auto list = overlayList();
-  if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + int(list.size())) {
+  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9 && key < GLFW_KEY_1 + int(list.size())) {
     setOverlay(list[size_t(key - GLFW_KEY_1)].id);
     return;
   }

@@ -296,15 +296,16 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
   }
   if (ImGui::CollapsingHeader("Keys", v.showHelp ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
     ImGui::Text(
-        "1-%zu overlays, 0 none, [ ] blend, R raw/reconstructed\n"
-        "-/= exposure, T tone curve, F fit, scroll zoom\n"
+        "1-%zu overlays (all in the list above), 0 none, [ ] blend\n"
+        "R raw/reconstructed, "
+"-/= exposure, T tone curve, F fit, scroll zoom\n"
         "middle or shift+left drag: pan the image\n"
         "left drag: orbit, right drag: pan the camera\n"
         "ctrl+scroll: dolly, WASD QE: fly\n"
         "click: inspect a pixel, I inspector, Tab panel\n"
         "space pause/resume, N one round, P screenshot\n"
         "ctrl+S save image, Esc quit",
-        overlayList().size());
+        std::min<size_t>(9, overlayList().size()));
   }
   if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());
   ImGui::End();
