@@ -1,5 +1,7 @@
 #include "methods/allocation.h"
 
+#include "methods/film_reconstruction.h"
+
 #include "core/rng.h"
 
 #include <tbb/blocked_range.h>
@@ -81,6 +83,8 @@ AllocationMethod::AllocationMethod(const PreparedScene& prepared, const RunShape
       schedule_(shape, pixelCount_, config.effectiveInitialSpp(shape), config.rounds),
       drawn_(pixelCount_, 0),
       kept_(pixelCount_, 0),
+      sampleMean_(pixelCount_, vec3(0.0f)),
+      sampleM2_(pixelCount_, vec3(0.0f)),
       selected_(pixelCount_, 0),
       rank_(pixelCount_, -1),
       addedLastRound_(pixelCount_, 0) {
@@ -89,7 +93,34 @@ AllocationMethod::AllocationMethod(const PreparedScene& prepared, const RunShape
   start_ = Clock::now();
 }
 
-bool AllocationMethod::done() const { return schedule_.finished(drawnTotal_); }
+bool AllocationMethod::done() const {
+  return schedule_.finished(drawnTotal_) || stoppedByRule(shape_, secondsSince(start_));
+}
+
+vec3 AllocationMethod::sampleVarianceOfMean(size_t p) const {
+  const uint32_t n = kept_[p];
+  return n > 1 ? sampleM2_[p] / (float(n - 1) * float(n)) : vec3(0.0f);
+}
+
+std::vector<float> AllocationMethod::shownRelativeError() const {
+  std::vector<float> e(pixelCount_);
+  for (size_t p = 0; p < pixelCount_; ++p) {
+    const vec3 v = sampleVarianceOfMean(p);
+    e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(sampleMean_[p]);
+  }
+  return e;
+}
+
+double AllocationMethod::estimatedError() const {
+  if (!shownError_.empty()) return meanOf(shownError_);
+  return meanOf(shownRelativeError());
+}
+
+Image AllocationMethod::rawVarianceOfMean() const {
+  Image out(width_, height_);
+  for (size_t p = 0; p < pixelCount_; ++p) out.pixels[p] = sampleVarianceOfMean(p);
+  return out;
+}
 
 void AllocationMethod::placeSamples(uint32_t pixel, int count, std::vector<uint32_t>& landing) {
   landing.assign(size_t(count), pixel);
@@ -121,15 +152,24 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
       return ka != kb ? ka > kb : a < b;
     });
     for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
+    if (shape_.noiseThreshold > 0) {
+      // Pixels whose shown value is already below the threshold get nothing.
+      std::erase_if(order, [&](uint32_t p) { return shownError_[p] < shape_.noiseThreshold; });
+      for (int32_t& r : rank_) r = -1;
+      for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
+    }
     uint64_t budget = schedule_.roundBudget(drawnTotal_, rounds_ - 1);
     const int batch = config_.effectiveBatch(shape_);
     plan.reserve(budget);
     std::vector<uint32_t> landing;
     size_t chosen = 0;
-    while (budget > 0) {  // several passes only when the budget exceeds one batch each
+    while (budget > 0 && !order.empty()) {  // several passes only past one batch each
       const uint32_t p = order[chosen % order.size()];
       const int count = int(std::min<uint64_t>(uint64_t(batch), budget));
       placeSamples(p, count, landing);
+      if (shape_.noiseThreshold > 0)  // GEM's spread samples stay out of converged pixels too
+        for (uint32_t& l : landing)
+          if (shownError_[l] < shape_.noiseThreshold) l = p;
       for (uint32_t l : landing) plan.push_back({l, drawn_[l]++});
       budget -= uint64_t(count);
       ++chosen;
@@ -143,6 +183,7 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
   ++rounds_;
   start = Clock::now();
   computeScores(scores_);
+  if (shape_.noiseThreshold > 0) shownError_ = shownRelativeError();
   times_.select += secondsSince(start);
 }
 
@@ -178,6 +219,9 @@ void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic
                             continue;
                           }
                           ++kept_[p];
+                          const vec3 d = L - sampleMean_[p];
+                          sampleMean_[p] += d / float(kept_[p]);
+                          sampleM2_[p] += d * (L - sampleMean_[p]);
                           addSample(p, plan[i].index, L);
                         }
                       }
@@ -187,6 +231,8 @@ void AllocationMethod::trace(std::vector<PlannedSample>& plan, const std::atomic
 
 size_t AllocationMethod::memoryBytes() const {
   return statisticsBytes() + scores_.capacity() * sizeof(float) +
+         (sampleMean_.capacity() + sampleM2_.capacity()) * sizeof(vec3) +
+         shownError_.capacity() * sizeof(float) +
          (drawn_.capacity() + kept_.capacity() + addedLastRound_.capacity()) * sizeof(uint32_t) +
          rank_.capacity() * sizeof(int32_t) + selected_.capacity();
 }

@@ -76,6 +76,14 @@ class AllocationMethod : public ProgressiveMethod {
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
                                      const std::atomic<bool>* cancel) override;
   PixelInspection inspect(int x, int y) const override;
+  // The noise threshold (RunShape::noiseThreshold) tests the shown image's estimated relMSE:
+  // the mean of shownRelativeError().
+  double estimatedError() const override;
+  Image rawVarianceOfMean() const override;
+  // Per pixel, the estimated relMSE of the image the method shows; the default is the box
+  // mean's (its variance of the mean over the mean's luminance squared + 0.01). A pixel
+  // below the noise threshold gets no more samples.
+  virtual std::vector<float> shownRelativeError() const;
 
  protected:
   // Adds a finite sample to the pixel's statistics. Called from worker threads, but for
@@ -95,6 +103,9 @@ class AllocationMethod : public ProgressiveMethod {
   virtual void addInspectedValues(size_t pixel, PixelInspection& in) const {}
   virtual size_t statisticsBytes() const = 0;
   virtual std::string scoreName() const { return "score"; }
+  // The framework's own per-pixel statistics of every finite sample (Welford, in order).
+  vec3 sampleMean(size_t p) const { return sampleMean_[p]; }
+  vec3 sampleVarianceOfMean(size_t p) const;
   // Runs body(p) for every pixel p in [0, count), in parallel.
   static void forEachPixel(size_t count, const std::function<void(size_t)>& body);
 
@@ -114,6 +125,9 @@ class AllocationMethod : public ProgressiveMethod {
   RoundSchedule schedule_;
   std::vector<uint32_t> drawn_;  // samples drawn per pixel (the next sequence index)
   std::vector<uint32_t> kept_;   // finite samples per pixel
+  std::vector<vec3> sampleMean_, sampleM2_;
+  // The last shownRelativeError(), when a noise threshold is set.
+  std::vector<float> shownError_;
   std::vector<uint8_t> selected_;
   std::vector<int32_t> rank_;  // last round's place in the ranking, -1: not chosen
   std::vector<uint32_t> addedLastRound_;

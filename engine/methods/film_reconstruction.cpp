@@ -54,12 +54,10 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
   return recon::denoise(in, config, cancel);
 }
 
-namespace {
-float regulariser(vec3 mean) {
+float relativeErrorRegulariser(vec3 mean) {
   const float y = (mean.x + mean.y + mean.z) / 3.0f;
   return y * y + 0.01f;
 }
-}  // namespace
 
 std::vector<float> relativeError(const recon::DenoiseResult& result, const Film& film) {
   std::vector<float> e(film.pixelCount());
@@ -68,7 +66,7 @@ std::vector<float> relativeError(const recon::DenoiseResult& result, const Film&
     const FilmPixel& px = film[p];
     const vec3 ev = px.emissionM2 * px.meanVarianceScale();
     e[p] = (result.mseEstimate[p] + (ev.x + ev.y + ev.z) / 3.0f) /
-           regulariser(result.output.pixels[p]);
+           relativeErrorRegulariser(result.output.pixels[p]);
   }
   return e;
 }
@@ -77,7 +75,7 @@ std::vector<float> rawRelativeError(const Film& film) {
   std::vector<float> e(film.pixelCount());
   for (size_t p = 0; p < e.size(); ++p) {
     const vec3 v = film[p].varianceOfMean();
-    e[p] = (v.x + v.y + v.z) / 3.0f / regulariser(vec3(film[p].mean));
+    e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(vec3(film[p].mean));
   }
   return e;
 }

@@ -29,6 +29,8 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
 std::vector<float> relativeError(const recon::DenoiseResult& result, const Film& film);
 // The same for the unfiltered mean: its variance over (mean luminance^2 + 0.01).
 std::vector<float> rawRelativeError(const Film& film);
+// The denominator of both: the mean's luminance (channel mean) squared, plus 0.01.
+float relativeErrorRegulariser(vec3 mean);
 // The mean of a per-pixel map's finite values (0 when none).
 double meanOf(const std::vector<float>& values);
 

@@ -1,5 +1,7 @@
 #include "methods/gem.h"
 
+#include "methods/film_reconstruction.h"
+
 #include "core/rng.h"
 
 #include <tbb/blocked_range.h>
@@ -241,6 +243,17 @@ class GemMethod final : public AllocationMethod {
            n_.capacity() * sizeof(uint32_t) + samplingScale_.capacity();
   }
   std::string scoreName() const override { return "estimated relative MSE"; }
+  // GEM shows its filtered image: the error it estimates for the scale it chose.
+ public:
+  std::vector<float> shownRelativeError() const override {
+    const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
+    std::vector<float> e(pixelCount_);
+    for (size_t p = 0; p < pixelCount_; ++p)
+      e[p] = s.mse[p] / relativeErrorRegulariser(s.estimate[p]);
+    return e;
+  }
+
+ protected:
 
  private:
   gem::PixelStatistics statistics() const {

@@ -165,8 +165,17 @@ expect_fail "bad preset" "--preset" "$penumbra" render "$cornell" --method bp --
 expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --phi 0.3,0.5
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
 expect_fail "raw out needs a filter" "--raw-out needs a method that filters" "$penumbra" render "$cornell" -o "$work/x.png" --raw-out "$work/rawx.exr"
-expect_fail "variance out needs a film" "--variance-out needs a method with a film" "$penumbra" render "$cornell" --method gem -o "$work/x.png" --variance-out "$work/varx.exr"
-expect_fail "noise threshold needs an estimate" "--noise-threshold: the method gem" "$penumbra" render "$cornell" --method gem --size 16x16 -o "$work/x.png" --noise-threshold 0.01
+expect_fail "variance out needs a variance" "--variance-out needs a method that keeps" "$penumbra" render "$cornell" --method bp --preset tuned -o "$work/x.png" --variance-out "$work/varx.exr"
+expect_fail "noise threshold needs an estimate" "--noise-threshold: bp's paper and tuned" "$penumbra" render "$cornell" --method bp --preset paper --size 16x16 -o "$work/x.png" --noise-threshold 0.01
+# Every baseline stops on the noise threshold, with its variance written.
+for m in gem fdiv cycles; do
+  expect_ok "noise threshold $m" "$penumbra" render "$cornell" --method $m --size 16x16 --noise-threshold 0.05 -o "$work/nt_$m.exr" --variance-out "$work/nt_${m}_var.exr" --stats "$work/nt_$m.json" -q
+  check "$m stops on the noise threshold" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert 0 < j["kept_spp"] < 4096, j["kept_spp"]
+' "$work/nt_$m.json"
+done
 # The film's features and buffers: LD's --aov-dir writes them, and every map as one layered EXR.
 expect_ok "ld aov dir" "$penumbra" render "$cornell" --size 16x16 --spp 4 -o "$work/ldaov.exr" --aov-dir "$work/ldaov" -q
 for f in albedo.exr normal.exr depth.exr emission.exr raw_error.exr layers.exr; do

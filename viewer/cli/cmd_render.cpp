@@ -91,15 +91,16 @@ void prepareOutputs(const RenderFlags& flags) {
   if (!flags.variancePath.empty()) checkImageExtension("--variance-out", flags.variancePath);
   if (!flags.rawPath.empty()) checkImageExtension("--raw-out", flags.rawPath);
   const MethodSpec spec = flags.method.spec(RunShape::batch(16));
+  // Every method but bp's paper and tuned presets keeps each pixel's variance of the mean.
   const bool hasFilm =
-      spec.kind() == MethodKind::Ld ||
-      (spec.get<BpConfig>() && spec.get<BpConfig>()->algorithm == BpAlgorithm::Consistent);
+      !spec.get<BpConfig>() || spec.get<BpConfig>()->algorithm == BpAlgorithm::Consistent;
   const bool filters = spec.kind() != MethodKind::Ld || spec.get<LdConfig>()->filter;
   if (!filters && !flags.rawPath.empty())
     throw CommandError("--raw-out needs a method that filters (an adaptive --method, or --filter)");
   if (!hasFilm && !flags.variancePath.empty())
     throw CommandError(
-        "--variance-out needs a method with a film: --method ld, or bp with its consistent preset");
+        "--variance-out needs a method that keeps each pixel's variance: bp's paper and tuned "
+        "presets do not (every other method does)");
   for (const std::string* path :
        {&flags.output, &flags.statsPath, &flags.variancePath, &flags.rawPath})
     if (!path->empty()) createParentDirectory(*path);
@@ -244,10 +245,11 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   std::vector<nlohmann::json> rounds;
   const double pixels = double(s.settings.width) * s.settings.height;
   const bool wantRounds = !flags.statsPath.empty();
-  if (shape.noiseThreshold > 0 && shape.timeLimit <= 0 && spec.kind() != MethodKind::Ld &&
-      !(spec.get<BpConfig>() && spec.get<BpConfig>()->algorithm == BpAlgorithm::Consistent))
-    throw CommandError(std::string("--noise-threshold: the method ") + toString(spec.kind()) +
-                       " has no error estimate to stop on; give --time-limit or --spp instead");
+  if (shape.noiseThreshold > 0 && shape.timeLimit <= 0 && spec.get<BpConfig>() &&
+      spec.get<BpConfig>()->algorithm != BpAlgorithm::Consistent)
+    throw CommandError(
+        "--noise-threshold: bp's paper and tuned presets have no error estimate to stop on (their "
+        "bias is not one); use the consistent preset, or give --time-limit or --spp instead");
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -346,8 +348,8 @@ void registerRenderCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 1e9));
   c->add_option("--noise-threshold", flags->noiseThreshold,
                 "Stop once the image's mean estimated relMSE (of the filtered image, for a method "
-                "that filters) is below this; pixels below it get no more samples (ld, "
-                "ld --filter, bp's consistent preset)")
+                "that filters) is below this; pixels below it get no more samples (every method but "
+                "bp's paper and tuned presets)")
       ->check(CLI::Range(0.0, 1e9));
   c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));

@@ -284,6 +284,45 @@ TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   EXPECT_FALSE(method->inspect(16, 0).valid);
 }
 
+// The noise threshold: the run stops once the shown image's mean estimated relMSE is below
+// it, and a pixel already below it gets no more samples meanwhile.
+TEST_P(Baseline, StopsOnTheNoiseThreshold) {
+  auto prepared = test::shippedScene("cornell", 16);
+  MethodSpec spec = specFor(GetParam(), 0, 3);
+  spec.shape.openEnded = true;
+  spec.shape.roundSpp = 4;
+  spec.shape.maxSpp = 4096;
+  spec.shape.noiseThreshold = 0.01f;
+  auto method = makeMethod(*prepared, spec);
+  auto& baseline = dynamic_cast<AllocationMethod&>(*method);
+  int skipped = 0;
+  for (int rounds = 0; !method->done() && rounds < 2000; ++rounds) {
+    const std::vector<float> error = baseline.shownRelativeError();
+    const std::vector<float> before = mapOf(*method->snapshot(false), MapId::TracedCount);
+    method->runRound(nullptr);
+    if (rounds == 0) continue;  // the first pass samples every pixel
+    const std::vector<float> after = mapOf(*method->snapshot(false), MapId::TracedCount);
+    for (size_t p = 0; p < 256; ++p)
+      if (error[p] < spec.shape.noiseThreshold) {
+        EXPECT_EQ(after[p], before[p]) << "pixel " << p << " was below the threshold";
+        ++skipped;
+      }
+  }
+  EXPECT_GT(skipped, 0);
+  ASSERT_TRUE(method->done()) << "never reached the threshold";
+  EXPECT_LT(method->estimatedError(), 0.01);
+  const auto snap = method->snapshot(false);
+  EXPECT_LT(snap->tracedSamples, 4096u * 256) << "stopped by the threshold, not the cap";
+  // Not uniform: the pixels that converged first got fewer samples.
+  const std::vector<float>& traced = mapOf(*snap, MapId::TracedCount);
+  EXPECT_LT(*std::min_element(traced.begin(), traced.end()),
+            *std::max_element(traced.begin(), traced.end()));
+  // The variance of the mean, for --variance-out.
+  const Image variance = method->rawVarianceOfMean();
+  ASSERT_EQ(variance.pixels.size(), 256u);
+  EXPECT_GT(variance.pixels[8 * 16 + 8].x, 0.0f);
+}
+
 TEST_P(Baseline, ViewerOverlaysHaveTheirMaps) {
   auto prepared = test::shippedScene("cornell", 16);
   auto method = makeMethod(*prepared, specFor(GetParam(), 8, 1));
