@@ -254,6 +254,47 @@ std::vector<float> ConsistentMethod::allocationError() const {
   return dilate3x3(e, s_.width, s_.height);
 }
 
+namespace {
+
+// The coins leave the total a few samples off the budget: settle the difference on the
+// pixels of highest (to add) or lowest (to take) error, so a batch spends exactly its spp.
+// Only those few pixels are ranked (by error, then index: a strict order, so the result is
+// the same whatever the sort); a full sort of the image each round cost more than the rest.
+void settleToBudget(std::vector<uint32_t>& slots, const std::vector<float>& error, uint64_t budget,
+                    bool skipConverged) {
+  uint64_t total = 0;
+  for (uint32_t v : slots) total += v;
+  if (total == budget) return;
+  auto higher = [&](uint32_t a, uint32_t b) {
+    return error[a] != error[b] ? error[a] > error[b] : a < b;
+  };
+  std::vector<uint32_t> order;
+  if (total < budget) {
+    for (uint32_t p = 0; p < slots.size(); ++p)
+      if (!(skipConverged && error[p] <= 0)) order.push_back(p);
+    if (order.empty()) return;
+    const size_t k = std::min<size_t>(order.size(), budget - total);
+    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(), higher);
+    for (size_t i = 0; total < budget; i = (i + 1) % k, ++total) ++slots[order[i]];
+    return;
+  }
+  for (uint32_t p = 0; p < slots.size(); ++p)
+    if (slots[p] > 0) order.push_back(p);
+  // Lowest error first: the reverse of `higher`.
+  auto lower = [&](uint32_t a, uint32_t b) { return higher(b, a); };
+  while (total > budget && !order.empty()) {
+    const size_t k = std::min<size_t>(order.size(), total - budget);
+    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(), lower);
+    for (size_t i = 0; i < k; ++i) {
+      --slots[order[i]];
+      --total;
+    }
+    std::erase_if(order, [&](uint32_t p) { return slots[p] == 0; });
+  }
+}
+
+}  // namespace
+
 void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   const size_t pixelCount = s_.pixelCount;
   refreshErrors(cancel);
@@ -281,26 +322,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   }
   std::vector<uint32_t> slots =
       allocateByError(error, counts, budget, allocation, s_.shape.seed, s_.adaptiveRounds);
-  // The coins leave the total a few samples off the budget: settle the difference on the
-  // pixels of highest (to add) or lowest (to take) error, so a batch spends exactly its spp.
-  {
-    uint64_t total = 0;
-    for (uint32_t v : slots) total += v;
-    std::vector<uint32_t> order(pixelCount);
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return error[a] > error[b]; });
-    for (size_t i = 0; total < budget && !order.empty(); i = (i + 1) % order.size()) {
-      if (error[order[i]] <= 0 && allocation.noiseThreshold > 0) break;
-      ++slots[order[i]];
-      ++total;
-    }
-    for (size_t i = order.size(); total > budget && i-- > 0;)
-      if (slots[order[i]] > 0) {
-        --slots[order[i]];
-        --total;
-      }
-  }
+  settleToBudget(slots, error, budget, allocation.noiseThreshold > 0);
   std::vector<uint32_t> chosen;
   for (uint32_t p = 0; p < pixelCount; ++p) {
     s_.selected[p] = slots[p] > 0;
