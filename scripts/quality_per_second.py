@@ -3,7 +3,8 @@ second" section, run by scripts/reproduce.py (also alone: reproduce.py --only qu
 
   equal time   2 s and 8 s per run on the five shipped scenes: LD, LD with the consistent
                reconstruction (ld:filtered), GEM, BP's default (consistent) preset and the same
-               without its networks (bp:network-weight=0); MSE, relMSE, speckles, curves
+               with its networks steering (bp:network-weight=1); MSE, relMSE, speckles,
+               curves
   equal spp    16 spp, and BP@16 against LD@64 on the tyre
   convergence  balls and cornell at 16..1024 spp: LD and BP, log-log slopes from 256 to 1024
                with the reference's residual MSE subtracted

@@ -254,7 +254,6 @@ class GemMethod final : public AllocationMethod {
   }
 
  protected:
-
  private:
   gem::PixelStatistics statistics() const {
     gem::PixelStatistics st;

@@ -193,8 +193,7 @@ void RenderSession::worker() {
   double lastSnapshotCost = 0;
   std::unique_lock lock(mutex_);
   while (true) {
-    wake_.wait(lock,
-               [&] {
+    wake_.wait(lock, [&] {
       return quit_ || state_ == State::Running || (inspectPending_ && method) || publishPending_;
     });
     if (quit_) return;

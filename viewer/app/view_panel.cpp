@@ -298,7 +298,7 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
     ImGui::Text(
         "1-%zu overlays (all in the list above), 0 none, [ ] blend\n"
         "R raw/reconstructed, "
-"-/= exposure, T tone curve, F fit, scroll zoom\n"
+        "-/= exposure, T tone curve, F fit, scroll zoom\n"
         "middle or shift+left drag: pan the image\n"
         "left drag: orbit, right drag: pan the camera\n"
         "ctrl+scroll: dolly, WASD QE: fly\n"

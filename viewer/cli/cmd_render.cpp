@@ -346,10 +346,11 @@ void registerRenderCommand(CLI::App& app) {
                 "Stop after the round in which this many seconds have passed (open-ended rounds; "
                 "--spp, when given, still caps them). Such a run need not be deterministic")
       ->check(CLI::Range(0.0, 1e9));
-  c->add_option("--noise-threshold", flags->noiseThreshold,
-                "Stop once the image's mean estimated relMSE (of the filtered image, for a method "
-                "that filters) is below this; pixels below it get no more samples (every method but "
-                "bp's paper and tuned presets)")
+  c->add_option(
+       "--noise-threshold", flags->noiseThreshold,
+       "Stop once the image's mean estimated relMSE (of the filtered image, for a method "
+       "that filters) is below this; pixels below it get no more samples (every method but "
+       "bp's paper and tuned presets)")
       ->check(CLI::Range(0.0, 1e9));
   c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <tbb/global_control.h>
+#include <algorithm>
 
 #include <cmath>
 #include <numeric>
