@@ -45,28 +45,60 @@ double cGamma(double gamma) { return -std::log(1.0 - std::pow(1.9 * gamma, 1.0 /
 
 namespace {
 
-// One separable pass along x (stride 1) or y (stride width).
-void filterPass(const float* src, float* dst, int width, int height, int channels,
-                const std::vector<float>& taps, bool squared, bool alongX) {
+// The normalisation of output position i of a line of `length`: the sum of the taps that
+// fall inside the line (squared, for the variance of a weighted mean: (sum w)^2).
+std::vector<float> edgeNorms(int length, const std::vector<float>& taps, bool squared) {
   const int radius = int(taps.size() / 2);
-  const int lines = alongX ? height : width, length = alongX ? width : height;
-  tbb::parallel_for(tbb::blocked_range<int>(0, lines, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int line = r.begin(); line < r.end(); ++line)
-      for (int i = 0; i < length; ++i) {
-        const int lo = std::max(0, i - radius), hi = std::min(length - 1, i + radius);
-        double norm = 0;
-        double acc[4] = {0, 0, 0, 0};
+  std::vector<float> norms(static_cast<size_t>(length));
+  for (int i = 0; i < length; ++i) {
+    double norm = 0;
+    for (int j = std::max(0, i - radius); j <= std::min(length - 1, i + radius); ++j)
+      norm += taps[size_t(j - i + radius)];
+    norms[size_t(i)] = float(1.0 / (squared ? norm * norm : norm));
+  }
+  return norms;
+}
+
+// Along x: each row on its own, the taps over neighbouring pixels.
+void filterRows(const float* src, float* dst, int width, int height, int channels,
+                const std::vector<float>& weights, const std::vector<float>& norms) {
+  const int radius = int(weights.size() / 2);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      const float* row = src + size_t(y) * width * channels;
+      float* out = dst + size_t(y) * width * channels;
+      for (int i = 0; i < width; ++i) {
+        const int lo = std::max(0, i - radius), hi = std::min(width - 1, i + radius);
+        float acc[4] = {0, 0, 0, 0};
         for (int j = lo; j <= hi; ++j) {
-          const double w = taps[size_t(j - i + radius)];
-          norm += w;
-          const double ww = squared ? w * w : w;
-          const size_t at = alongX ? (size_t(line) * width + j) : (size_t(j) * width + line);
-          for (int c = 0; c < channels; ++c) acc[c] += ww * src[at * channels + c];
+          const float w = weights[size_t(j - i + radius)];
+          for (int c = 0; c < channels; ++c) acc[c] += w * row[size_t(j) * channels + c];
         }
-        const double d = squared ? norm * norm : norm;
-        const size_t at = alongX ? (size_t(line) * width + i) : (size_t(i) * width + line);
-        for (int c = 0; c < channels; ++c) dst[at * channels + c] = float(acc[c] / d);
+        for (int c = 0; c < channels; ++c)
+          out[size_t(i) * channels + c] = acc[c] * norms[size_t(i)];
       }
+    }
+  });
+}
+
+// Along y: each output row is a weighted sum of whole input rows, contiguous in memory (a
+// loop the compiler vectorises, where walking down the columns would miss the cache).
+void filterColumns(const float* src, float* dst, int width, int height, int channels,
+                   const std::vector<float>& weights, const std::vector<float>& norms) {
+  const int radius = int(weights.size() / 2);
+  const size_t rowFloats = size_t(width) * channels;
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      float* out = dst + size_t(y) * rowFloats;
+      std::fill(out, out + rowFloats, 0.0f);
+      for (int j = std::max(0, y - radius); j <= std::min(height - 1, y + radius); ++j) {
+        const float w = weights[size_t(j - y + radius)];
+        const float* row = src + size_t(j) * rowFloats;
+        for (size_t k = 0; k < rowFloats; ++k) out[k] += w * row[k];
+      }
+      const float norm = norms[size_t(y)];
+      for (size_t k = 0; k < rowFloats; ++k) out[k] *= norm;
+    }
   });
 }
 
@@ -81,9 +113,15 @@ void gaussianFilter(std::span<const float> src, std::span<float> dst, int width,
   std::vector<float> taps(size_t(2 * radius + 1));
   for (int i = -radius; i <= radius; ++i)
     taps[size_t(i + radius)] = float(std::exp(-double(i) * i / (2.0 * double(sigma) * sigma)));
+  // For the variance of the weighted mean the weights are squared, and so is the norm.
+  std::vector<float> weights = taps;
+  if (squared)
+    for (float& w : weights) w *= w;
   std::vector<float> tmp(n);
-  filterPass(src.data(), tmp.data(), width, height, channels, taps, squared, true);
-  filterPass(tmp.data(), dst.data(), width, height, channels, taps, squared, false);
+  filterRows(src.data(), tmp.data(), width, height, channels, weights,
+             edgeNorms(width, taps, squared));
+  filterColumns(tmp.data(), dst.data(), width, height, channels, weights,
+                edgeNorms(height, taps, squared));
 }
 
 namespace {
