@@ -6,8 +6,8 @@ second" section, run by scripts/reproduce.py (also alone: reproduce.py --only qu
                with its networks steering (bp:network-weight=1); MSE, relMSE, speckles,
                curves
   equal spp    16 spp, and BP@16 against LD@64 on the tyre
-  convergence  balls and cornell at 16..1024 spp: LD and BP, log-log slopes from 256 to 1024
-               with the reference's residual MSE subtracted
+  convergence  balls and cornell at 16..1024 spp: LD and BP, log-log slopes over the spp
+               the reference measures reliably (up to its spp / 16)
   overhead     train + select + reconstruct over wall time, BP's default at 16 and 64 spp
 """
 import math
@@ -175,24 +175,34 @@ def run(r, args, figures, ref_records):
     emit("BP@16 against LD@64 on the tyre (the paper's claim): MSE %.2e against %.2e: %s." % (
         mean(tire["bp"]["mse"]), mean(tire["ld@64"]["mse"]), "holds" if claim else "does not hold"))
     emit("")
-    emit("### Convergence (1 seed; the reference's residual MSE subtracted)")
+    # A reference of R spp measures a method's error reliably up to about R/16 spp; past it
+    # the reference's own error (its recorded residual is an iid estimate, which over-states
+    # an LD reference's) is a large part of what is measured, so the slope and the "below
+    # LD" test use only the spp up to R/16. The table shows every measured MSE as it is.
+    reliable = [s for s in conv_spp if s <= args.ref_spp / 16] or conv_spp[:2]
+    fit = reliable[-3:] if len(reliable) >= 3 else reliable
+    emit("### Convergence (1 seed)")
     emit("")
-    emit("| scene | method | " + " | ".join(str(s) for s in conv_spp) + " | slope 256-1024 |")
+    emit("MSE against the %d-spp reference, as measured; its own residual MSE (an iid "
+         "estimate) is %s. The slope is fitted over %s spp, where the reference's error is small "
+         "beside the method's." % (args.ref_spp, ", ".join(
+             "%.1e on %s" % (ref_records[sc].get("residual_mse", float("nan")), sc)
+             for sc in ("balls", "cornell")), "–".join(str(s) for s in (fit[0], fit[-1]))))
+    emit("")
+    emit("| scene | method | " + " | ".join(str(s) for s in conv_spp) + " | slope %d-%d |" %
+         (fit[0], fit[-1]))
     emit("|---|---|" + "--:|" * (len(conv_spp) + 1))
     slopes = {}
     below = 0
     for scene in ("balls", "cornell"):
-        floor = ref_records[scene].get("residual_mse", 0.0)
         for label in ("ld", "bp"):
-            ys = [max(mean(convergence[(scene, s)][label]["mse"]) - floor, 1e-30)
-                  for s in conv_spp]
-            tail = [(s, y) for s, y in zip(conv_spp, ys) if s >= 256]
-            k = slope([t[0] for t in tail], [t[1] for t in tail]) if len(tail) >= 2 else \
-                float("nan")
+            ys = [mean(convergence[(scene, s)][label]["mse"]) for s in conv_spp]
+            k = slope(fit, [mean(convergence[(scene, s)][label]["mse"]) for s in fit]) \
+                if len(fit) >= 2 else float("nan")
             slopes[(scene, label)] = k
             emit("| %s | %s | %s | %.2f |" % (scene, label, " | ".join("%.2e" % y for y in ys), k))
         below += all(mean(convergence[(scene, s)]["bp"]["mse"]) <=
-                     mean(convergence[(scene, s)]["ld"]["mse"]) for s in conv_spp)
+                     mean(convergence[(scene, s)]["ld"]["mse"]) for s in reliable)
     emit("")
     emit("### Overhead of BP's default: (train + select + reconstruct) / wall time")
     emit("")
@@ -219,9 +229,10 @@ def run(r, args, figures, ref_records):
     emit("- Equal 16 spp, BP ≤ 0.25× LD on every scene: worst %.2f× — %s; BP@16 ≤ LD@64 on "
          "the tyre — %s." % (max(spp_ratios), verdict(max(spp_ratios) <= 0.25), verdict(claim)))
     worst_slope = max(slopes[(s, "bp")] for s in ("balls", "cornell"))
-    emit("- Convergence: BP ≤ LD at every spp on %d of 2 scenes — %s; BP's slope from 256 to "
-         "1024 spp %.2f at worst (goal ≤ −0.7) — %s." % (below, verdict(below == 2), worst_slope,
-                                                         verdict(worst_slope <= -0.7)))
+    emit("- Convergence: BP ≤ LD at every spp up to %d on %d of 2 scenes — %s; BP's slope from "
+         "%d to %d spp %.2f at worst (goal ≤ −0.7) — %s." % (
+             reliable[-1], below, verdict(below == 2), fit[0], fit[-1], worst_slope,
+             verdict(worst_slope <= -0.7)))
     emit("- Speckles at equal 2 s: BP's share of pixels above LD's 99.9th percentile of "
          "relative squared error, worst %.2f%% (goal ≤ 0.1%%) — %s." % (
              100 * max(goals["speckle"]), verdict(max(goals["speckle"]) <= 0.001)))

@@ -82,6 +82,13 @@ class Runner:
         cmd = [self.args.penumbra, "compare", "scenes/%s.json" % scene, "--methods", methods,
                "--spp", str(spp), "--seeds", str(seeds or self.args.seeds),
                "--reference", self.reference(scene), "--out", out, "-q"] + self.size + list(extra)
+        if self.args.resume and os.path.exists(results):
+            with open(results) as f:
+                kept = json.load(f)
+            # compare records its own command line, the program named `penumbra`.
+            if kept.get("command_line") == " ".join(["penumbra"] + cmd[1:]):
+                log("%-28s kept (--resume)" % name)
+                return kept
         seconds = self.run(cmd)
         log("%-28s %6.1f s" % (name, seconds))
         with open(results) as f:
@@ -121,6 +128,10 @@ def main():
     ap.add_argument("--figures", default="")
     ap.add_argument("--size", type=int, default=0, help="image side (default: shipped size)")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the runs of an earlier, interrupted call whose command line was "
+                         "the same (results.json's command_line); the build must not have "
+                         "changed what they measure")
     ap.add_argument("--only", choices=("all", "quality", "paper"), default="all",
                     help="quality: only the quality-per-second experiments; paper: only the "
                     "paper's")

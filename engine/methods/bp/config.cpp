@@ -38,7 +38,9 @@ std::string BpConfig::validate(const RunShape& shape) const {
   if (!(psi >= 0)) return bad("--psi must be at least 0");
   if (!(biasEpsilon > 0)) return bad("--bias-epsilon must be positive");
   if (!(outlierTau > 0)) return bad("--outlier-tau must be positive");
-  if (reservoir < effectiveCoarseSpp(shape))
+  // The consistent algorithm without networks stores no samples (its film holds the sums).
+  const bool stores = algorithm == BpAlgorithm::Paper || networkWeight > 0;
+  if (stores && reservoir < effectiveCoarseSpp(shape))
     return bad("--reservoir must hold at least the coarse pass (" +
                std::to_string(effectiveCoarseSpp(shape)) + " samples)");
   if (filter.alphas.size() < 1 || filter.phi.size() + 1 != filter.alphas.size())

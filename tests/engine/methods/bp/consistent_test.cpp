@@ -113,5 +113,15 @@ TEST(ConsistentBp, IsTheDefaultOfTheBpPresets) {
   EXPECT_EQ(paper.algorithm, BpAlgorithm::Paper);
 }
 
+// Without networks nothing is stored per sample, so any spp is valid (1024 spp has a coarse
+// pass of 128, twice the reservoir); with them the reservoir must hold the coarse pass.
+TEST(ConsistentBp, StoresSamplesOnlyForItsNetworks) {
+  BpConfig config = consistentConfig();
+  const RunShape shape = RunShape::batch(1024);
+  EXPECT_EQ(config.validate(shape), "");
+  config.networkWeight = 1.0f;
+  EXPECT_NE(config.validate(shape).find("--reservoir"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace penumbra
