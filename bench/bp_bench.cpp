@@ -5,8 +5,10 @@
 //    threads), the training figure from the multiply-add flops the training kernel spent
 //    during a real render divided by the time inside the kernel. Goal: >= 25% of peak.
 // 2. Adaptive overhead: (train + select + reconstruct) / (all phases) of the same render.
-//    Goal: <= 30% on balls at 256x256, 32 spp.
-// Both for the default preset with its networks on (bp:network-weight=1) and the paper's.
+//    Goal: <= 20% for the default preset (issue 12, at 16 and 64 spp: --spp), <= 30% for the
+//    paper's rounds on balls at 256x256, 32 spp.
+// For the default preset, the same with its networks on (bp:network-weight=1), and the
+// paper's.
 // The peak is measured before and after the render and the higher value kept, so a noisy
 // neighbour lowers the ratio rather than flattering it.
 //
@@ -55,16 +57,18 @@ int main(int argc, char** argv) {
     auto prepared = prepareScene(std::move(scene));
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
-    // The default preset with its networks on (bp:network-weight=1: the preset itself runs
-    // none), whose training batches group the pixels due across a round, and the paper's
-    // rounds.
+    // The default preset (it trains no network), the same with its networks on
+    // (bp:network-weight=1), whose training batches group the pixels due across a round, and
+    // the paper's rounds.
     struct Variant {
       const char* name;
       BpPreset preset;
       float networkWeight;
+      double overheadGoal;  // issue 12: 20% for the default preset; the paper's rounds: 30%
     };
-    for (const Variant& v : {Variant{"consistent, network-weight 1", BpPreset::Consistent, 1.0f},
-                             Variant{"paper", BpPreset::Paper, -1.0f}}) {
+    for (const Variant& v : {Variant{"default (consistent)", BpPreset::Consistent, -1.0f, 0.20},
+                             Variant{"consistent, network-weight 1", BpPreset::Consistent, 1.0f, 0.30},
+                             Variant{"paper", BpPreset::Paper, -1.0f, 0.30}}) {
       const double peakBefore = measureFmaPeakGflops(threads, 1.0);
       BpConfig config;
       applyBpPreset(config, v.preset);
@@ -91,8 +95,8 @@ int main(int argc, char** argv) {
       std::printf("FMA peak            %8.1f GFLOP/s\n", peak);
       std::printf("network training    %8.1f GFLOP/s  ratio %.2f (goal >= 0.25)\n", training,
                   training / peak);
-      std::printf("adaptive overhead   %8.1f %%       ratio %.2f (goal <= 0.30)\n",
-                  100.0 * overhead, overhead);
+      std::printf("adaptive overhead   %8.1f %%       ratio %.2f (goal <= %.2f)\n",
+                  100.0 * overhead, overhead, v.overheadGoal);
       std::printf("memory              %8.0f bytes per pixel\n",
                   double(method->memoryBytes()) / pixels);
     }

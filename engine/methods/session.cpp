@@ -200,15 +200,16 @@ void RenderSession::worker() {
     if (state_ != State::Running) {
       if (publishPending_ && method && methodGeneration == generation_) {
         const uint64_t generation = generation_;
+        cancelRound_ = false;  // a restart meanwhile cuts the reconstruction short
         lock.unlock();
         std::shared_ptr<Snapshot> snapshot;
         try {
-          arena.execute([&] { snapshot = method->snapshot(true, nullptr); });
+          arena.execute([&] { snapshot = method->snapshot(true, &cancelRound_); });
         } catch (const std::exception&) {
           snapshot.reset();  // the next round reports the failure
         }
         lock.lock();
-        if (snapshot && generation == generation_) {
+        if (snapshot && generation == generation_ && !cancelRound_) {
           latest_ = std::move(snapshot);
           latestGeneration_ = generation;
           ++version_;
