@@ -66,9 +66,10 @@ int main(int argc, char** argv) {
       float networkWeight;
       double overheadGoal;  // issue 12: 20% for the default preset; the paper's rounds: 30%
     };
-    for (const Variant& v : {Variant{"default (consistent)", BpPreset::Consistent, -1.0f, 0.20},
-                             Variant{"consistent, network-weight 1", BpPreset::Consistent, 1.0f, 0.30},
-                             Variant{"paper", BpPreset::Paper, -1.0f, 0.30}}) {
+    for (const Variant& v :
+         {Variant{"default (consistent)", BpPreset::Consistent, -1.0f, 0.20},
+          Variant{"consistent, network-weight 1", BpPreset::Consistent, 1.0f, 0.30},
+          Variant{"paper", BpPreset::Paper, -1.0f, 0.30}}) {
       const double peakBefore = measureFmaPeakGflops(threads, 1.0);
       BpConfig config;
       applyBpPreset(config, v.preset);
