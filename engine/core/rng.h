@@ -16,6 +16,17 @@ inline uint64_t mixBits(uint64_t v) {
   return v;
 }
 
+// A 32-bit integer hash (xorshift-multiply rounds) for deriving 32-bit keys
+// (the sampler's shuffles).
+inline uint32_t mixBits32(uint32_t v) {
+  v ^= v >> 16;
+  v *= 0x7feb352du;
+  v ^= v >> 15;
+  v *= 0x846ca68bu;
+  v ^= v >> 16;
+  return v;
+}
+
 inline uint64_t hashValues(uint64_t a, uint64_t b) {
   return mixBits(a * 0x9e3779b97f4a7c15ULL ^ mixBits(b));
 }

@@ -40,16 +40,6 @@ inline float sobol2(uint32_t index, uint32_t scramble) {
   return toUnitFloat(scramble);
 }
 
-// A 32-bit integer hash (xorshift-multiply rounds) for deriving keys.
-inline uint32_t mixBits32(uint32_t v) {
-  v ^= v >> 16;
-  v *= 0x7feb352du;
-  v ^= v >> 15;
-  v *= 0x846ca68bu;
-  v ^= v >> 16;
-  return v;
-}
-
 // Bijection of [0, n) for n a power of two, chosen by `key`. Every step is invertible modulo
 // n = 2^b: xor with the key, multiply by an odd number, and xorshifts down by about b/2 and b/3
 // bits, so that every output bit depends on every input bit; three rounds with fresh keys.
