@@ -158,16 +158,7 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
       for (int32_t& r : rank_) r = -1;
       for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
     }
-    uint64_t budget = schedule_.roundBudget(drawnTotal_, rounds_ - 1);
-    if (shape_.openEnded) {
-      // Open-ended, a round adds at least an eighth of what is spent (still capped by maxSpp):
-      // the ranking and the criterion's statistics (GEM's filterbank: tens of milliseconds at
-      // 256x256) then cost a bounded share of the time, however long the run.
-      budget = std::max(budget, drawnTotal_ / 8);
-      if (schedule_.totalBudget() > 0)
-        budget = std::min(budget,
-                          schedule_.totalBudget() - std::min(drawnTotal_, schedule_.totalBudget()));
-    }
+    uint64_t budget = schedule_.growingRoundBudget(drawnTotal_, rounds_ - 1);
     const int batch = config_.effectiveBatch(shape_);
     plan.reserve(budget);
     std::vector<uint32_t> landing;

@@ -22,6 +22,14 @@ uint64_t RoundSchedule::roundBudget(uint64_t spent, int round) const {
   return (remaining + roundsLeft - 1) / roundsLeft;
 }
 
+uint64_t RoundSchedule::growingRoundBudget(uint64_t spent, int round) const {
+  const uint64_t budget = roundBudget(spent, round);
+  if (!shape_.openEnded) return budget;
+  const uint64_t grown = std::max(budget, spent / 8);
+  const uint64_t total = totalBudget();
+  return total > 0 ? std::min(grown, total - std::min(spent, total)) : grown;
+}
+
 bool RoundSchedule::finished(uint64_t spent) const {
   if (shape_.openEnded && shape_.maxSpp == 0) return false;
   return spent >= totalBudget();

@@ -22,6 +22,11 @@ class RoundSchedule {
   uint64_t totalBudget() const;
   // What adaptive round `round` (from 0) may spend when `spent` samples are spent.
   uint64_t roundBudget(uint64_t spent, int round) const;
+  // The same, but open-ended a round adds at least an eighth of what is spent (still capped
+  // by maxSpp): for the adaptive methods, whose per-round ranking and statistics then cost a
+  // bounded share of the time however long the run (the session publishes a few snapshots a
+  // second whatever the round length). Batch runs are as roundBudget.
+  uint64_t growingRoundBudget(uint64_t spent, int round) const;
   // The whole budget is spent (never, open-ended without maxSpp).
   bool finished(uint64_t spent) const;
   int initialSpp() const { return initialSpp_; }

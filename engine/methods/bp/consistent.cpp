@@ -300,16 +300,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   refreshErrors(cancel);
   if (cancel && cancel->load()) return;
   auto start = Clock::now();
-  uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
-  if (s_.shape.openEnded) {
-    // Open-ended, a round adds at least an eighth of what is spent (still capped by maxSpp),
-    // so that the per-round ranking costs little beside tracing as samples accumulate; the
-    // session publishes a few snapshots a second whatever the round length.
-    budget = std::max(budget, s_.spent / 8);
-    if (s_.schedule.totalBudget() > 0)
-      budget = std::min(budget,
-                        s_.schedule.totalBudget() - std::min(s_.spent, s_.schedule.totalBudget()));
-  }
+  const uint64_t budget = s_.schedule.growingRoundBudget(s_.spent, s_.adaptiveRounds);
   std::vector<uint32_t> counts(pixelCount);
   for (size_t p = 0; p < pixelCount; ++p) counts[p] = film_[p].count;
   ErrorAllocation allocation = s_.config.allocation;

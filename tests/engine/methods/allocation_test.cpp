@@ -121,6 +121,11 @@ MethodSpec specFor(MethodKind kind, int spp, uint64_t seed) {
   return {RunShape::batch(spp, seed), defaultConfig(kind)};
 }
 
+// An open-ended run of roundSpp per round up to maxSpp.
+MethodSpec openEndedSpecFor(MethodKind kind, int roundSpp, int maxSpp, uint64_t seed) {
+  return {RunShape::progressive(roundSpp, seed, maxSpp), defaultConfig(kind)};
+}
+
 // The schedule every baseline's configuration shares.
 AllocationConfig& allocationOf(MethodSpec& spec) {
   return std::visit(
@@ -259,10 +264,7 @@ TEST_P(Baseline, SameImageWhateverTheThreadCount) {
 
 TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   auto prepared = test::shippedScene("cornell", 16);
-  MethodSpec spec = specFor(GetParam(), 0, 3);
-  spec.shape.openEnded = true;
-  spec.shape.roundSpp = 2;
-  spec.shape.maxSpp = 10;
+  const MethodSpec spec = openEndedSpecFor(GetParam(), 2, 10, 3);
   auto method = makeMethod(*prepared, spec);
   EXPECT_FALSE(method->inspect(3, 3).valid);
   method->runRound(nullptr);  // initial pass: 4 spp
@@ -288,10 +290,7 @@ TEST_P(Baseline, OpenEndedRoundsAndInspection) {
 // it, and a pixel already below it gets no more samples meanwhile.
 TEST_P(Baseline, StopsOnTheNoiseThreshold) {
   auto prepared = test::shippedScene("cornell", 16);
-  MethodSpec spec = specFor(GetParam(), 0, 3);
-  spec.shape.openEnded = true;
-  spec.shape.roundSpp = 4;
-  spec.shape.maxSpp = 4096;
+  MethodSpec spec = openEndedSpecFor(GetParam(), 4, 4096, 3);
   spec.shape.noiseThreshold = 0.01f;
   auto method = makeMethod(*prepared, spec);
   auto& baseline = dynamic_cast<AllocationMethod&>(*method);

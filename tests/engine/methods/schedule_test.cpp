@@ -37,5 +37,17 @@ TEST(RoundSchedule, OpenEndedRunsAddRoundSppUpToTheCap) {
   EXPECT_TRUE(capped.finished(100));
 }
 
+// The adaptive methods' rounds: open-ended, at least an eighth of what is spent, still
+// capped; a batch run is unchanged.
+TEST(RoundSchedule, GrowingRoundsAddAnEighthOfWhatIsSpent) {
+  const RoundSchedule open(RunShape::progressive(2), 10, 4, 8);
+  EXPECT_EQ(open.growingRoundBudget(40, 0), 20u);      // roundSpp x pixels is more
+  EXPECT_EQ(open.growingRoundBudget(8000, 9), 1000u);  // an eighth of 8000
+  const RoundSchedule capped(RunShape::progressive(2, 0, 100), 10, 4, 8);
+  EXPECT_EQ(capped.growingRoundBudget(960, 9), 40u);  // 1000 - 960 left
+  const RoundSchedule batch(RunShape::batch(16), 10, 4, 8);
+  EXPECT_EQ(batch.growingRoundBudget(800, 3), batch.roundBudget(800, 3));
+}
+
 }  // namespace
 }  // namespace penumbra
