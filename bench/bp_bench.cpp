@@ -44,7 +44,15 @@ int main(int argc, char** argv) {
       threads = next("--threads");
     else if (!std::strcmp(argv[i], "--nit"))
       nit = next("--nit");
-    else
+    else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      std::printf(
+          "usage: penumbra_bench_bp [scene.json] [--spp N] [--size S] [--threads T] "
+          "[--nit N]\n");
+      return 0;
+    } else if (argv[i][0] == '-') {
+      std::fprintf(stderr, "penumbra_bench_bp: unknown flag '%s' (see --help)\n", argv[i]);
+      return 2;
+    } else
       scenePath = argv[i];
   }
   if (spp < 1 || size < 1 || threads < 1) {

@@ -2,13 +2,40 @@
 
 #include "core/rng.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace penumbra {
 
 namespace {
 constexpr uint64_t kAllocationSalt = 0x616c6c6f63617465ULL;
+
+// Pixels per chunk of the deterministic reductions: the chunks, and so the sums' rounding,
+// do not depend on the thread count.
+constexpr size_t kChunk = 4096;
+
+// sum_p f(p) over [0, n), chunked and joined in a fixed order.
+template <class F>
+double deterministicSum(size_t n, F f) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<size_t>(0, n, kChunk), 0.0,
+      [&](const tbb::blocked_range<size_t>& r, double sum) {
+        // Four partial sums: independent chains the compiler can keep in vector lanes.
+        double part[4] = {0, 0, 0, 0};
+        size_t p = r.begin();
+        for (; p + 4 <= r.end(); p += 4)
+          for (size_t k = 0; k < 4; ++k) part[k] += f(p + k);
+        for (; p < r.end(); ++p) part[0] += f(p);
+        return sum + ((part[0] + part[1]) + (part[2] + part[3]));
+      },
+      std::plus<double>());
+}
+
 }  // namespace
 
 std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<const uint32_t> count,
@@ -20,70 +47,92 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
   float top = 0;
   for (float e : error)
     if (std::isfinite(e)) top = std::max(top, e);
-  // Per pixel: sqrt(c_p) and whether it may receive samples at all.
-  std::vector<double> root(n);
-  std::vector<uint8_t> active(n);
+  // Per pixel: sqrt(c_p) and its count; a pixel that may receive no samples gets root 0 and
+  // an infinite count, so that every target stays below it and the sums need no branch.
+  std::vector<double> root(n), have(n);
   double countSum = 0;
   size_t activeCount = 0;
   for (size_t p = 0; p < n; ++p) {
     const double e = std::isfinite(error[p]) ? std::max(0.0f, error[p]) : top;
-    active[p] = !(config.noiseThreshold > 0 && e < config.noiseThreshold);
-    root[p] = std::sqrt(e * std::max<uint32_t>(count[p], 1));
+    const bool active = !(config.noiseThreshold > 0 && e < config.noiseThreshold);
+    root[p] = active ? std::sqrt(e * std::max<uint32_t>(count[p], 1)) : 0.0;
+    have[p] = active ? double(count[p]) : HUGE_VAL;
     countSum += count[p];
-    activeCount += active[p];
+    activeCount += active;
   }
   if (activeCount == 0) return out;
   const double floorCount = config.floorFraction * (countSum + double(budget)) / double(n);
-  auto spend = [&](double lambda, double floorScale, std::vector<double>* share) {
-    double total = 0;
-    for (size_t p = 0; p < n; ++p) {
-      if (!active[p]) continue;
-      const double target = std::max(floorScale * floorCount, lambda * root[p]);
-      const double d = std::max(0.0, target - double(count[p]));
-      total += d;
-      if (share) (*share)[p] = d;
-    }
-    return total;
+  auto share = [&](size_t p, double lambda, double floor) {
+    return std::max(0.0, std::max(floor, lambda * root[p]) - have[p]);
+  };
+  auto spend = [&](double lambda, double floorScale) {
+    const double floor = floorScale * floorCount;
+    return deterministicSum(n, [&](size_t p) { return share(p, lambda, floor); });
   };
   // The floors alone may exceed the budget: scale them down, then find lambda by bisection.
   double floorScale = 1.0;
-  const double floorsOnly = spend(0.0, 1.0, nullptr);
+  const double floorsOnly = spend(0.0, 1.0);
   if (floorsOnly > double(budget)) floorScale = double(budget) / floorsOnly;
-  double lo = 0, hi = 1;
-  while (spend(hi, floorScale, nullptr) < double(budget) && hi < 1e30) hi *= 2;
+  // An upper bracket: at lambda0 = (budget + sum c) / sum sqrt(c_p) the shares without their
+  // floors and clamps already sum to the budget, and those only add.
+  double rootSum = 0, haveSum = 0;
+  for (size_t p = 0; p < n; ++p)
+    if (root[p] > 0) {
+      rootSum += root[p];
+      haveSum += have[p];
+    }
+  double lo = 0, hi = rootSum > 0 ? (double(budget) + haveSum) / rootSum : 1.0;
+  while (spend(hi, floorScale) < double(budget) && hi < 1e30) hi *= 2;
   // To a relative 1e-5: the shares are rounded to whole samples anyway.
   for (int i = 0; i < 60 && floorsOnly <= double(budget) && hi - lo > 1e-5 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (spend(mid, floorScale, nullptr) < double(budget) ? lo : hi) = mid;
+    (spend(mid, floorScale) < double(budget) ? lo : hi) = mid;
   }
-  std::vector<double> share(n, 0.0);
-  spend(floorsOnly <= double(budget) ? hi : 0.0, floorScale, &share);
-  for (size_t p = 0; p < n; ++p) {
-    const double whole = std::floor(share[p]);
-    const double coin =
-        toUnitFloat(uint32_t(hashValues(hashValues(seed, uint64_t(round), p), kAllocationSalt)));
-    out[p] = uint32_t(whole) + (coin < share[p] - whole ? 1u : 0u);
-  }
+  const double lambda = floorsOnly <= double(budget) ? hi : 0.0;
+  const double floor = floorScale * floorCount;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, kChunk), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t p = r.begin(); p < r.end(); ++p) {
+          const double d = share(p, lambda, floor);
+          const double whole = std::floor(d);
+          const double coin = toUnitFloat(
+              uint32_t(hashValues(hashValues(seed, uint64_t(round), p), kAllocationSalt)));
+          out[p] = uint32_t(whole) + (coin < d - whole ? 1u : 0u);
+        }
+      });
   return out;
 }
 
 std::vector<float> dilate3x3(std::span<const float> values, int width, int height) {
-  std::vector<float> out(values.size());
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      double top = 0;
-      int used = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int qx = x + dx, qy = y + dy;
-          if (qx < 0 || qy < 0 || qx >= width || qy >= height) continue;
-          const float v = values[size_t(qy) * width + qx];
-          if (!std::isfinite(v)) continue;
-          top = std::max(top, double(v));
-          ++used;
-        }
-      out[size_t(y) * width + x] = used ? float(top) : 0.0f;
+  // Separable: the largest finite value of each row's three, then of each column's three.
+  // Non-finite values are skipped (as -inf), and the result is at least 0 (a pixel whose whole
+  // neighbourhood is non-finite gets 0).
+  const size_t w = size_t(width);
+  std::vector<float> rows(values.size()), out(values.size());
+  auto finite = [](float v) { return std::isfinite(v) ? v : -HUGE_VALF; };
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      const float* in = values.data() + size_t(y) * w;
+      float* o = rows.data() + size_t(y) * w;
+      for (int x = 0; x < width; ++x) {
+        float m = finite(in[x]);
+        if (x > 0) m = std::max(m, finite(in[x - 1]));
+        if (x + 1 < width) m = std::max(m, finite(in[x + 1]));
+        o[x] = m;
+      }
     }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      const float* mid = rows.data() + size_t(y) * w;
+      const float* up = y > 0 ? mid - w : mid;
+      const float* down = y + 1 < height ? mid + w : mid;
+      float* o = out.data() + size_t(y) * w;
+      for (int x = 0; x < width; ++x) {
+        o[x] = std::max(0.0f, std::max(mid[x], std::max(up[x], down[x])));
+      }
+    }
+  });
   return out;
 }
 

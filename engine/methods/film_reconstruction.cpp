@@ -1,5 +1,8 @@
 #include "methods/film_reconstruction.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -73,10 +76,13 @@ std::vector<float> relativeError(const recon::DenoiseResult& result, const Film&
 
 std::vector<float> rawRelativeError(const Film& film) {
   std::vector<float> e(film.pixelCount());
-  for (size_t p = 0; p < e.size(); ++p) {
-    const vec3 v = film[p].varianceOfMean();
-    e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(vec3(film[p].mean));
-  }
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, e.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+          const vec3 v = film[p].varianceOfMean();
+          e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(vec3(film[p].mean));
+        }
+      });
   return e;
 }
 

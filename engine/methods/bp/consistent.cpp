@@ -240,21 +240,35 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // divides each pixel's error by its cost per sample relative to the image's (the water-
   // filling then gives n ~ sqrt(e n / cost)), so a pixel of long paths is not over-sampled.
   const std::vector<float> raw = rawRelativeError(film_);
-  double rays = 0, samples = 0;
+  uint64_t rays = 0, samples = 0;  // whole numbers: their sums are exact in any order
   for (size_t p = 0; p < s_.pixelCount; ++p) {
     rays += rays_[p];
     samples += s_.pixel(p).traced;
   }
-  const double meanCost = samples > 0 && rays > 0 ? rays / samples : 1.0;
-  for (size_t p = 0; p < s_.pixelCount; ++p) {
-    const double cost =
-        s_.pixel(p).traced && rays_[p] ? double(rays_[p]) / s_.pixel(p).traced / meanCost : 1.0;
-    e[p] = float(raw[p] * networkFactor(p) / cost);
-  }
+  const double meanCost = samples > 0 && rays > 0 ? double(rays) / double(samples) : 1.0;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s_.pixelCount, 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        const uint32_t traced = s_.pixel(p).traced;
+                        const double cost =
+                            traced && rays_[p] ? double(rays_[p]) / traced / meanCost : 1.0;
+                        e[p] = float(raw[p] * networkFactor(p) / cost);
+                      }
+                    });
   return dilate3x3(e, s_.width, s_.height);
 }
 
 namespace {
+
+// Puts the k first of `order` by the strict order `before` at its front, in that order: a
+// selection, then a sort of those k only (for k much smaller than the image).
+template <class Before>
+void rankFirst(std::vector<uint32_t>& order, size_t k, Before before) {
+  if (k == 0) return;
+  const auto kth = order.begin() + std::ptrdiff_t(k);
+  if (k < order.size()) std::nth_element(order.begin(), kth - 1, order.end(), before);
+  std::sort(order.begin(), kth, before);
+}
 
 // The coins leave the total a few samples off the budget: settle the difference on the
 // pixels of highest (to add) or lowest (to take) error, so a batch spends exactly its spp.
@@ -274,7 +288,7 @@ void settleToBudget(std::vector<uint32_t>& slots, const std::vector<float>& erro
       if (!(skipConverged && error[p] <= 0)) order.push_back(p);
     if (order.empty()) return;
     const size_t k = std::min<size_t>(order.size(), budget - total);
-    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(), higher);
+    rankFirst(order, k, higher);
     for (size_t i = 0; total < budget; i = (i + 1) % k, ++total) ++slots[order[i]];
     return;
   }
@@ -284,7 +298,7 @@ void settleToBudget(std::vector<uint32_t>& slots, const std::vector<float>& erro
   auto lower = [&](uint32_t a, uint32_t b) { return higher(b, a); };
   while (total > budget && !order.empty()) {
     const size_t k = std::min<size_t>(order.size(), total - budget);
-    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(k), order.end(), lower);
+    rankFirst(order, k, lower);
     for (size_t i = 0; i < k; ++i) {
       --slots[order[i]];
       --total;
