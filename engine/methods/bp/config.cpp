@@ -179,6 +179,10 @@ const ParamTable<BpConfig>& bpParams() {
               "Consistent: a pixel's estimated error is scaled by 1 + this x its network bias "
               "(0: the networks are not used)",
               [](auto& c) -> auto& { return c.networkWeight; }, 0, 1e6, {0, 8})
+        .real("absolute-weight", "absolute weight",
+              "Consistent: a pixel's error is its raw relMSE plus this x its raw MSE over the "
+              "image's mean squared (0: relMSE only)",
+              [](auto& c) -> auto& { return c.absoluteWeight; }, 0, 1e6, {0, 8})
         .real("sample-floor", "sample floor",
               "Consistent: every pixel keeps at least this share of the mean sample count",
               [](auto& c) -> auto& { return c.allocation.floorFraction; }, 0, 1, {0, 1})

@@ -107,6 +107,8 @@ class ConsistentMethod final : public ProgressiveMethod {
   // Refreshes the filtered image's error estimate (for the noise threshold), when the film
   // grew enough.
   void refreshErrors(const std::atomic<bool>* cancel);
+  // raw[p] += absoluteWeight x (pixel p's raw MSE) / (the image's mean value)^2.
+  void addAbsoluteError(std::vector<float>& raw) const;
   // The error each pixel is ranked by now.
   std::vector<float> allocationError() const;
   // The filtered pixel's estimated relMSE now: the last estimate, falling as 1/n since.
@@ -230,6 +232,26 @@ void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
   s_.times.reconstruct += secondsSince(start);
 }
 
+void ConsistentMethod::addAbsoluteError(std::vector<float>& raw) const {
+  const float w = s_.config.absoluteWeight;
+  if (!(w > 0)) return;
+  double sum = 0;  // the image's mean value, over channels
+  for (size_t p = 0; p < s_.pixelCount; ++p) {
+    const glm::dvec3 m = film_[p].mean;
+    sum += (m.x + m.y + m.z) / 3.0;
+  }
+  const double mean = sum / double(s_.pixelCount);
+  if (!(mean > 0)) return;
+  const float scale = float(double(w) / (mean * mean));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s_.pixelCount, 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        const vec3 v = film_[p].varianceOfMean();
+                        raw[p] += scale * (v.x + v.y + v.z) / 3.0f;
+                      }
+                    });
+}
+
 std::vector<float> ConsistentMethod::allocationError() const {
   std::vector<float> e(s_.pixelCount);
   // The raw mean's relative variance ranks the pixels: measured on balls at 16 spp, ranking by
@@ -239,7 +261,8 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // A sample costs its rays: minimising the error at equal time rather than equal samples
   // divides each pixel's error by its cost per sample relative to the image's (the water-
   // filling then gives n ~ sqrt(e n / cost)), so a pixel of long paths is not over-sampled.
-  const std::vector<float> raw = rawRelativeError(film_);
+  std::vector<float> raw = rawRelativeError(film_);
+  addAbsoluteError(raw);
   uint64_t rays = 0, samples = 0;  // whole numbers: their sums are exact in any order
   for (size_t p = 0; p < s_.pixelCount; ++p) {
     rays += rays_[p];
