@@ -73,6 +73,9 @@ void applyBpPreset(BpConfig& config, BpPreset preset) {
   // gains on every shipped scene, so the preset leaves it off; bp:network-weight=1 is the
   // ablation that shows it.
   if (consistent) config.networkWeight = 0.0f;
+  // Both objectives in the ranking: relMSE alone starves an emitter's bright edge, whose
+  // absolute error dominates the MSE (docs/bp-method.md).
+  if (consistent) config.absoluteWeight = 0.25f;
   config.outlierRemoval = tuned ? false : paper.outlierRemoval;
   config.warping = tuned ? false : paper.warping;
   config.stratifiedMean = tuned ? false : paper.stratifiedMean;

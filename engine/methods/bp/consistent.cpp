@@ -39,6 +39,10 @@ using namespace method;
 constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;  // as the paper algorithm's networks
 // The reconstruction that steers allocation is redone once the samples grew this much.
 constexpr double kReconstructionGrowth = 1.5;
+// The absolute term ranks a pixel by its (2r + 1)^2 neighbourhood's mean MSE, not its own: a
+// pixel whose own few samples missed a rare bright path does not look converged, and its count
+// depends little on its own samples (the neighbourhood's bright edge still draws samples).
+constexpr int kAbsoluteRadius = 3;
 
 struct TracedSample {
   CameraSample camera;
@@ -107,7 +111,7 @@ class ConsistentMethod final : public ProgressiveMethod {
   // Refreshes the filtered image's error estimate (for the noise threshold), when the film
   // grew enough.
   void refreshErrors(const std::atomic<bool>* cancel);
-  // raw[p] += absoluteWeight x (pixel p's raw MSE) / (the image's mean value)^2.
+  // raw[p] += absoluteWeight x (the mean raw MSE around p) / (the image's mean value)^2.
   void addAbsoluteError(std::vector<float>& raw) const;
   // The error each pixel is ranked by now.
   std::vector<float> allocationError() const;
@@ -243,13 +247,16 @@ void ConsistentMethod::addAbsoluteError(std::vector<float>& raw) const {
   const double mean = sum / double(s_.pixelCount);
   if (!(mean > 0)) return;
   const float scale = float(double(w) / (mean * mean));
+  std::vector<float> mse(s_.pixelCount);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, s_.pixelCount, 4096),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t p = range.begin(); p < range.end(); ++p) {
                         const vec3 v = film_[p].varianceOfMean();
-                        raw[p] += scale * (v.x + v.y + v.z) / 3.0f;
+                        mse[p] = (v.x + v.y + v.z) / 3.0f;
                       }
                     });
+  mse = boxMean(mse, s_.width, s_.height, kAbsoluteRadius);
+  for (size_t p = 0; p < s_.pixelCount; ++p) raw[p] += scale * mse[p];
 }
 
 std::vector<float> ConsistentMethod::allocationError() const {
