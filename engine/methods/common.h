@@ -49,8 +49,9 @@ inline PixelInspection startInspection(int x, int y, int width, int height, int 
 // sampler and its counts, which are added to the method's totals when the chunk ends.
 class TraceChunk {
  public:
-  TraceChunk(Counters& totals, SamplerKind kind, uint64_t seed, uint32_t setSize)
-      : sampler((enableFlushToZero(), kind), seed, setSize), totals_(totals) {}
+  TraceChunk(Counters& totals, SamplerKind kind, uint64_t seed, uint32_t setSize,
+             BlockOrder order = BlockOrder::Nested)
+      : sampler((enableFlushToZero(), kind), seed, setSize, order), totals_(totals) {}
   ~TraceChunk() {
     totals_.rays += counters.rays;
     totals_.nonFinite += nonFinite;

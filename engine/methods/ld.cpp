@@ -44,14 +44,19 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
   const uint32_t first = drawn_;
   const uint32_t last = first + uint32_t(schedule_.roundBudget(drawn_, rounds_));
-  // A batch run's set is its spp; the open-ended stream uses blocks of 64.
+  // A batch run's set is its spp; the open-ended stream uses blocks of 64. Only a batch at a
+  // power-of-two spp with no noise threshold draws every block whole: the other runs stop
+  // pixels inside a block, where the nested order keeps them stratified.
   const uint32_t setSize = shape_.openEnded ? 64u : uint32_t(shape_.spp);
+  const bool wholeBlocks =
+      !shape_.openEnded && !(shape_.noiseThreshold > 0) && roundUpPowerOfTwo(setSize) == setSize;
+  const BlockOrder order = wholeBlocks ? BlockOrder::Shuffled : BlockOrder::Nested;
   updatePixelErrors(cancel);
   const float threshold = shape_.noiseThreshold;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                      TraceChunk chunk(counters_, shape_.sampler, shape_.seed, setSize);
+                      TraceChunk chunk(counters_, shape_.sampler, shape_.seed, setSize, order);
                       PixelSampler& sampler = chunk.sampler;
                       for (size_t p = range.begin(); p < range.end(); ++p) {
                         // Below the noise threshold: converged, no more samples.

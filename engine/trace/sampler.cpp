@@ -43,7 +43,9 @@ const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
 uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
   const uint32_t block = sampleIndex_ & ~(setSize_ - 1);
   const uint32_t key = block ? mixBits32(k.shuffle ^ mixBits32(block)) : k.shuffle;
-  return block | permuteIndex(sampleIndex_ & (setSize_ - 1), setSize_, key);
+  const uint32_t local = sampleIndex_ & (setSize_ - 1);
+  return block | (order_ == BlockOrder::Nested ? nestedPermuteIndex(local, setSize_, key)
+                                               : permuteIndex(local, setSize_, key));
 }
 
 CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {

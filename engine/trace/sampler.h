@@ -4,9 +4,10 @@
 // - LowDiscrepancy: per pixel, a scrambled (0,2)-sequence for the image offset, another
 //   for the lens, a scrambled van der Corput sequence for time, and one independently
 //   scrambled (0,2) set per integrator dimension pair (ALGORITHM.md §10.1, after
-//   pbrt-v2's LDPixelSample). The sample order is shuffled per dimension within blocks
-//   of `setSize` (a power of two), so each dimension stays stratified while dimensions
-//   decorrelate; the block structure keeps the sequence extensible past setSize. Each
+//   pbrt-v2's LDPixelSample). The sample order is permuted per dimension within blocks
+//   of `setSize` (a power of two; BlockOrder says how), so each dimension stays stratified
+//   while dimensions decorrelate; the block structure keeps the sequence extensible past
+//   setSize. Each
 //   block has its own shuffles: with one shuffle for all blocks, the dimensions of a pixel
 //   would pair the same way in every block, and the estimate would stop converging.
 // - Independent: uniform random numbers from a per-(pixel, sample) PCG32 stream.
@@ -24,13 +25,25 @@ namespace penumbra {
 
 enum class SamplerKind { LowDiscrepancy, Independent };
 
+// How the low-discrepancy sampler orders a block's samples, per dimension:
+// - Nested (nestedPermuteIndex): every power-of-two prefix of a block is stratified, so a
+//   pixel stopped at any count (an adaptive method, an open-ended run, a noise threshold)
+//   keeps its samples stratified; the price is a weak coupling of the dimensions' fine digits;
+// - Shuffled (permuteIndex): a full-avalanche bijection, the best pairing of the dimensions
+//   when every block is drawn whole (a batch render at a power-of-two spp); a prefix of a
+//   block is a random subset of it.
+enum class BlockOrder { Nested, Shuffled };
+
 // Scrambled radical inverses (pbrt-v2 montecarlo.h, VanDerCorput and Sobol2).
+inline uint32_t reverseBits(uint32_t v) {
+  v = __builtin_bswap32(v);
+  v = ((v & 0x0f0f0f0f) << 4) | ((v & 0xf0f0f0f0) >> 4);
+  v = ((v & 0x33333333) << 2) | ((v & 0xcccccccc) >> 2);
+  return ((v & 0x55555555) << 1) | ((v & 0xaaaaaaaa) >> 1);
+}
+
 inline float vanDerCorput(uint32_t index, uint32_t scramble) {
-  index = __builtin_bswap32(index);
-  index = ((index & 0x0f0f0f0f) << 4) | ((index & 0xf0f0f0f0) >> 4);
-  index = ((index & 0x33333333) << 2) | ((index & 0xcccccccc) >> 2);
-  index = ((index & 0x55555555) << 1) | ((index & 0xaaaaaaaa) >> 1);
-  return toUnitFloat(index ^ scramble);
+  return toUnitFloat(reverseBits(index) ^ scramble);
 }
 
 inline float sobol2(uint32_t index, uint32_t scramble) {
@@ -60,14 +73,37 @@ inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
   return i;
 }
 
+// A nested random permutation of [0, n) for n a power of two, chosen by `key`: bit b of the
+// index is flipped by a hash of the bits above it (Owen's nested scrambling applied to the
+// index, the shuffle of Burley 2020, "Practical Hash-based Owen Scrambling"). It maps every
+// aligned run of 2^j indices onto an aligned run of 2^j, so the first 2^j samples of a block
+// are a (0,j,2)-net like the block's whole set: a pixel that stops at any count keeps its
+// samples stratified. The hash works on the reversed bits, where each step (xor with an even
+// multiple, an added key, an odd multiple) flips a bit by the bits below it only (Laine and
+// Karras 2011, with Vegdahl's constants).
+inline uint32_t nestedPermuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+  if (n <= 1) return 0;
+  uint32_t x = reverseBits(i);
+  x ^= x * 0x3d20adeau;
+  x += key;
+  x *= (key >> 16) | 1u;
+  x ^= x * 0x05526c56u;
+  x ^= x * 0x53a22864u;
+  return reverseBits(x) & (n - 1);
+}
+
 uint32_t roundUpPowerOfTwo(uint32_t v);
 
 // Sample stream of one pixel sample: first the 5D camera point, then the integrator's
 // own dimensions in order via next1D / next2D.
 class PixelSampler {
  public:
-  PixelSampler(SamplerKind kind, uint64_t seed, uint32_t setSize)
-      : kind_(kind), seed_(seed), setSize_(roundUpPowerOfTwo(setSize < 1 ? 1 : setSize)) {}
+  PixelSampler(SamplerKind kind, uint64_t seed, uint32_t setSize,
+               BlockOrder order = BlockOrder::Nested)
+      : kind_(kind),
+        order_(order),
+        seed_(seed),
+        setSize_(roundUpPowerOfTwo(setSize < 1 ? 1 : setSize)) {}
 
   // Starts sample `sampleIndex` of pixel (px, py); resets the dimension counter.
   void startSample(int px, int py, uint32_t sampleIndex);
@@ -94,6 +130,7 @@ class PixelSampler {
   uint32_t shuffledIndex(const DimensionKeys& keys) const;
 
   SamplerKind kind_;
+  BlockOrder order_;
   uint64_t seed_;
   uint32_t setSize_;
   uint64_t pixelKey_ = 0;
