@@ -65,7 +65,13 @@ struct DenoiseConfig {
   int patchRadius = 1;                 // 3x3 patches
   float kFeature = 0.6f;               // k_f of §3
   float tau = 1e-3f;                   // §3
-  int sureSmoothRadius = 1;            // box radius for smoothing each SURE map before selection
+  // Box radius for smoothing each SURE map before selection. One pixel's SURE is too noisy to
+  // choose by at low counts: with 3x3 boxes the choice flipped from pixel to pixel between the
+  // identity and r = 8 in flat regions, leaving speckles. Measured at 16 spp, 2 seeds, BP's
+  // default MSE x LD with radius 1 -> 5: stairs 0.12 -> 0.05, cornell 0.07 -> 0.04, tire 0.05
+  // -> 0.03, dragon 0.24 -> 0.23, balls 0.17 -> 0.16; at 256 spp cornell 0.17 -> 0.15 and balls
+  // 0.31 -> 0.29 (docs/RESULTS.md). The colour and feature weights keep edges.
+  int sureSmoothRadius = 5;
   bool demodulate = true;  // filter (mean - emission) / (albedo + albedoEpsilon), multiply back
   float albedoEpsilon = 1e-2f;
   bool crossFilter = true;  // filter A with weights from B and vice versa (when halves given)
