@@ -136,40 +136,4 @@ std::vector<float> dilate3x3(std::span<const float> values, int width, int heigh
   return out;
 }
 
-std::vector<float> boxMean(std::span<const float> values, int width, int height, int radius) {
-  // Separable running sums: each row's sums and counts of finite values over the window, then
-  // each column's over those. Sums in double, so a long run does not drift.
-  const size_t w = size_t(width);
-  std::vector<double> rowSum(values.size()), rowCount(values.size());
-  std::vector<float> out(values.size());
-  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y < r.end(); ++y) {
-      const float* in = values.data() + size_t(y) * w;
-      for (int x = 0; x < width; ++x) {
-        double sum = 0, count = 0;
-        for (int i = std::max(0, x - radius); i <= std::min(width - 1, x + radius); ++i) {
-          if (!std::isfinite(in[i])) continue;
-          sum += in[i];
-          count += 1;
-        }
-        rowSum[size_t(y) * w + size_t(x)] = sum;
-        rowCount[size_t(y) * w + size_t(x)] = count;
-      }
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y < r.end(); ++y) {
-      for (int x = 0; x < width; ++x) {
-        double sum = 0, count = 0;
-        for (int j = std::max(0, y - radius); j <= std::min(height - 1, y + radius); ++j) {
-          sum += rowSum[size_t(j) * w + size_t(x)];
-          count += rowCount[size_t(j) * w + size_t(x)];
-        }
-        out[size_t(y) * w + size_t(x)] = count > 0 ? float(sum / count) : 0.0f;
-      }
-    }
-  });
-  return out;
-}
-
 }  // namespace penumbra

@@ -33,8 +33,4 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
 // pixel is not starved; without it the raw estimate fails the per-pixel z-test near lights.
 std::vector<float> dilate3x3(std::span<const float> values, int width, int height);
 
-// The mean of each pixel's (2 radius + 1)^2 neighbourhood (clipped at the borders, so a border
-// pixel averages fewer values); non-finite values are left out of the mean.
-std::vector<float> boxMean(std::span<const float> values, int width, int height, int radius);
-
 }  // namespace penumbra

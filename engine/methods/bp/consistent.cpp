@@ -255,7 +255,7 @@ void ConsistentMethod::addAbsoluteError(std::vector<float>& raw) const {
                         mse[p] = (v.x + v.y + v.z) / 3.0f;
                       }
                     });
-  mse = boxMean(mse, s_.width, s_.height, kAbsoluteRadius);
+  mse = recon::boxMean(mse, s_.width, s_.height, kAbsoluteRadius);
   for (size_t p = 0; p < s_.pixelCount; ++p) raw[p] += scale * mse[p];
 }
 

@@ -217,44 +217,6 @@ void addFeatures(const DenoiseInput& in, const DenoiseConfig& config, const Usag
   }
 }
 
-// Box mean of `map` over the valid pixels within `radius` (clipped to the image), separable;
-// a pixel that is not valid keeps its own value.
-std::vector<float> smoothed(const std::vector<float>& map, const Plane& valid, int width,
-                            int height, int radius) {
-  if (radius == 0) return map;
-  std::vector<float> rowSum(map.size()), rowCount(map.size()), out(map.size());
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y != r.end(); ++y) {
-      for (int x = 0; x < width; ++x) {
-        float sum = 0.0f, n = 0.0f;
-        for (int t = std::max(0, x - radius); t <= std::min(width - 1, x + radius); ++t) {
-          const size_t q = size_t(y) * width + t;
-          if (valid[q] > 0.0f) {
-            sum += map[q];
-            n += 1.0f;
-          }
-        }
-        rowSum[size_t(y) * width + x] = sum;
-        rowCount[size_t(y) * width + x] = n;
-      }
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y != r.end(); ++y) {
-      for (int x = 0; x < width; ++x) {
-        const size_t p = size_t(y) * width + x;
-        float sum = 0.0f, n = 0.0f;
-        for (int t = std::max(0, y - radius); t <= std::min(height - 1, y + radius); ++t) {
-          sum += rowSum[size_t(t) * width + x];
-          n += rowCount[size_t(t) * width + x];
-        }
-        out[p] = valid[p] > 0.0f && n > 0.0f ? sum / n : map[p];
-      }
-    }
-  });
-  return out;
-}
-
 // The identity candidate: the mean itself, whose squared error is V exactly.
 detail::ScaleMaps identityMaps(const DenoiseInput& in, const SweepInput& domain,
                                const Planes3& meanVariance) {
@@ -272,6 +234,49 @@ detail::ScaleMaps identityMaps(const DenoiseInput& in, const SweepInput& domain,
 }
 
 }  // namespace
+
+std::vector<float> boxMean(std::span<const float> values, int width, int height, int radius,
+                           std::span<const float> valid) {
+  // Separable: each row's sums and counts over the window, then each column's over those, in
+  // double so that wide windows of small values keep their digits.
+  if (radius <= 0) return std::vector<float>(values.begin(), values.end());
+  const size_t w = size_t(width);
+  auto counts = [&](size_t q) {
+    return std::isfinite(values[q]) && (valid.empty() || valid[q] > 0.0f);
+  };
+  std::vector<double> rowSum(values.size()), rowCount(values.size());
+  std::vector<float> out(values.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        double sum = 0, n = 0;
+        for (int t = std::max(0, x - radius); t <= std::min(width - 1, x + radius); ++t) {
+          const size_t q = size_t(y) * w + size_t(t);
+          if (!counts(q)) continue;
+          sum += values[q];
+          n += 1;
+        }
+        rowSum[size_t(y) * w + size_t(x)] = sum;
+        rowCount[size_t(y) * w + size_t(x)] = n;
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        const size_t p = size_t(y) * w + size_t(x);
+        double sum = 0, n = 0;
+        for (int t = std::max(0, y - radius); t <= std::min(height - 1, y + radius); ++t) {
+          sum += rowSum[size_t(t) * w + size_t(x)];
+          n += rowCount[size_t(t) * w + size_t(x)];
+        }
+        const bool own = valid.empty() || valid[p] > 0.0f;
+        out[p] = own && n > 0 ? float(sum / n) : values[p];
+      }
+    }
+  });
+  return out;
+}
 
 std::string validate(const DenoiseConfig& config) {
   if (config.radii.size() > kMaxScales)
@@ -330,7 +335,8 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
   std::vector<std::vector<float>> smoothedMse;
   for (const detail::ScaleMaps& maps : candidates)
     smoothedMse.push_back(
-        smoothed(maps.mse, domain.valid, in.width, in.height, config.sureSmoothRadius));
+        boxMean(maps.mse, in.width, in.height, config.sureSmoothRadius,
+                std::span<const float>(domain.valid.data(), domain.valid.size())));
 
   const size_t count = in.mean.size();
   DenoiseResult result;

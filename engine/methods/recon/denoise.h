@@ -106,6 +106,12 @@ struct DenoiseDetail {
   std::vector<std::vector<float>> scaleVarianceRatio;
 };
 
+// The mean of each pixel's (2 radius + 1)^2 neighbourhood (clipped at the borders), over the
+// finite values of the pixels that are `valid` (> 0; all when empty); a pixel that is not
+// valid, or has no such neighbour, keeps its own value. How the SURE maps are smoothed.
+std::vector<float> boxMean(std::span<const float> values, int width, int height, int radius,
+                           std::span<const float> valid = {});
+
 // Empty when the configuration is valid, else a message that names the bad field.
 std::string validate(const DenoiseConfig& config);
 

@@ -79,23 +79,5 @@ TEST(ErrorAllocation, Dilate3x3TakesTheNeighbourhoodsLargest) {
   EXPECT_FLOAT_EQ(s[15], 0.0f);  // a NaN is skipped
 }
 
-TEST(ErrorAllocation, BoxMeanAveragesTheClippedNeighbourhood) {
-  // 5x4: one value 25 at (2, 1), a NaN at (4, 3), zeros elsewhere.
-  std::vector<float> v(20, 0.0f);
-  v[1 * 5 + 2] = 25.0f;
-  v[3 * 5 + 4] = std::nanf("");
-  const auto m = boxMean(v, 5, 4, 1);
-  EXPECT_FLOAT_EQ(m[1 * 5 + 2], 25.0f / 9.0f);  // inside: 9 values
-  EXPECT_FLOAT_EQ(m[0 * 5 + 1], 25.0f / 6.0f);  // the top row: 6 values
-  EXPECT_FLOAT_EQ(m[0 * 5 + 4], 0.0f);          // out of reach
-  EXPECT_FLOAT_EQ(m[2 * 5 + 3], 25.0f / 8.0f);  // 9 values, the NaN left out
-  EXPECT_FLOAT_EQ(m[3 * 5 + 4], 0.0f);          // its own NaN left out: 3 zeros
-  // Radius 0 is the identity on finite values; the whole image when it reaches every pixel.
-  const auto same = boxMean(v, 5, 4, 0);
-  EXPECT_FLOAT_EQ(same[1 * 5 + 2], 25.0f);
-  const auto all = boxMean(v, 5, 4, 10);
-  for (float x : all) EXPECT_FLOAT_EQ(x, 25.0f / 19.0f);
-}
-
 }  // namespace
 }  // namespace penumbra
