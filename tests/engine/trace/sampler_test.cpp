@@ -49,18 +49,24 @@ PixelPoints drawPixel(PixelSampler& sampler, int px, int py, uint32_t first, uin
   return out;
 }
 
+// 2^m points: a (0,m,2)-net in the image, the lens and an integrator pair, and one time per
+// stratum of 1/2^m.
+void expectEveryDimensionStratified(const PixelPoints& p, int m) {
+  expectElementaryIntervals(p.image, m);
+  expectElementaryIntervals(p.lens, m);
+  expectElementaryIntervals(p.integrator, m);
+  std::set<int> strata;
+  for (float t : p.time) strata.insert(int(t * float(1 << m)));
+  EXPECT_EQ(int(strata.size()), 1 << m) << "time is one point per stratum";
+}
+
 TEST(Sampler, ZeroTwoPointsAreStratifiedInEveryElementaryInterval) {
   for (BlockOrder order : {BlockOrder::Nested, BlockOrder::Shuffled}) {
     for (int m : {0, 2, 4, 5, 8}) {
       PixelSampler sampler(SamplerKind::LowDiscrepancy, 1234, 1u << m, order);
       for (auto [px, py] : {std::pair{0, 0}, std::pair{17, 3}, std::pair{255, 255}}) {
         const PixelPoints p = drawPixel(sampler, px, py, 0, 1u << m);
-        expectElementaryIntervals(p.image, m);
-        expectElementaryIntervals(p.lens, m);
-        expectElementaryIntervals(p.integrator, m);
-        std::set<int> strata;
-        for (float t : p.time) strata.insert(int(t * float(1 << m)));
-        EXPECT_EQ(int(strata.size()), 1 << m) << "time is one point per stratum";
+        expectEveryDimensionStratified(p, m);
       }
     }
   }
@@ -85,12 +91,7 @@ TEST(Sampler, EveryPowerOfTwoPrefixOfABlockIsStratified) {
       for (uint32_t first : {0u, setSize}) {
         for (int j : {1, 3, 4, 6}) {
           const PixelPoints p = drawPixel(sampler, px, py, first, 1u << j);
-          expectElementaryIntervals(p.image, j);
-          expectElementaryIntervals(p.lens, j);
-          expectElementaryIntervals(p.integrator, j);
-          std::set<int> strata;
-          for (float t : p.time) strata.insert(int(t * float(1 << j)));
-          EXPECT_EQ(int(strata.size()), 1 << j) << "time is one point per stratum";
+          expectEveryDimensionStratified(p, j);
         }
       }
     }
