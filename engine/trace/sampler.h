@@ -7,9 +7,8 @@
 //   pbrt-v2's LDPixelSample). The sample order is permuted per dimension within blocks
 //   of `setSize` (a power of two; BlockOrder says how), so each dimension stays stratified
 //   while dimensions decorrelate; the block structure keeps the sequence extensible past
-//   setSize. Each
-//   block has its own shuffles: with one shuffle for all blocks, the dimensions of a pixel
-//   would pair the same way in every block, and the estimate would stop converging.
+//   setSize. Each block has its own permutations: with one for all blocks, the dimensions of
+//   a pixel would pair the same way in every block, and the estimate would stop converging.
 // - Independent: uniform random numbers from a per-(pixel, sample) PCG32 stream.
 #pragma once
 

@@ -183,8 +183,8 @@ const ParamTable<BpConfig>& bpParams() {
               "(0: the networks are not used)",
               [](auto& c) -> auto& { return c.networkWeight; }, 0, 1e6, {0, 8})
         .real("absolute-weight", "absolute weight",
-              "Consistent: a pixel's error is its raw relMSE plus this x its raw MSE over the "
-              "image's mean squared (0: relMSE only)",
+              "Consistent: a pixel's error is its raw relMSE plus this x its 7x7 "
+              "neighbourhood's mean raw MSE over the image's mean squared (0: relMSE only)",
               [](auto& c) -> auto& { return c.absoluteWeight; }, 0, 1e6, {0, 8})
         .real("sample-floor", "sample floor",
               "Consistent: every pixel keeps at least this share of the mean sample count",
