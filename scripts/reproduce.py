@@ -72,16 +72,35 @@ class Runner:
             sys.exit("reproduce: command failed: %s\n%s" % (" ".join(cmd), result.stderr))
         return time.time() - start
 
-    def reference(self, scene):
-        return os.path.join(self.args.refs, scene + ".exr")
+    def reference(self, scene, refs=None):
+        return os.path.join(refs or self.args.refs, scene + ".exr")
 
-    def compare(self, name, scene, spp, methods, extra=(), seeds=None):
+    def ensure_reference(self, scene, refs, spp):
+        """The record of REFS/scene.exr at `spp` spp (the shipped size or --size), rendered
+        here when it is missing or has another spp or size."""
+        ref = self.reference(scene, refs)
+        record = os.path.join(refs, scene + ".json")
+        ok = os.path.exists(ref) and os.path.exists(record)
+        if ok:
+            with open(record) as f:
+                j = json.load(f)
+            ok = j.get("spp") == spp and (not self.args.size or j.get("width") == self.args.size)
+        if not ok:
+            log("rendering the %s reference at %d spp into %s" % (scene, spp, refs))
+            os.makedirs(refs, exist_ok=True)
+            self.run([self.args.penumbra, "reference", "scenes/%s.json" % scene, "--spp",
+                      str(spp), "-o", ref, "-q"] + self.size)
+        with open(record) as f:
+            return json.load(f)
+
+    def compare(self, name, scene, spp, methods, extra=(), seeds=None, refs=None):
         """Runs penumbra compare into OUT/name and returns its results.json."""
         out = os.path.join(self.args.out, name)
         results = os.path.join(out, "results.json")
         cmd = [self.args.penumbra, "compare", "scenes/%s.json" % scene, "--methods", methods,
                "--spp", str(spp), "--seeds", str(seeds or self.args.seeds),
-               "--reference", self.reference(scene), "--out", out, "-q"] + self.size + list(extra)
+               "--reference", self.reference(scene, refs), "--out", out, "-q"] + self.size + \
+            list(extra)
         if self.args.resume and os.path.exists(results):
             with open(results) as f:
                 kept = json.load(f)
@@ -121,6 +140,10 @@ def main():
     ap.add_argument("--penumbra", default="build/penumbra")
     ap.add_argument("--refs", default="out/ref")
     ap.add_argument("--ref-spp", type=int, default=8192)
+    ap.add_argument("--conv-refs", default="out/ref-conv",
+                    help="references of the convergence runs (balls, cornell), rendered at "
+                         "--conv-ref-spp when missing")
+    ap.add_argument("--conv-ref-spp", type=int, default=32768)
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--sweep-seeds", type=int, default=3, help="seeds of Fig. 7, 8, ablations")
     ap.add_argument("--out", default="out/repro")
@@ -140,8 +163,11 @@ def main():
         args.size = args.size or 48
         args.seeds = args.sweep_seeds = 1
         args.ref_spp = min(args.ref_spp, 256)
+        args.conv_ref_spp = min(args.conv_ref_spp, 1024)
         if args.refs == "out/ref":
             args.refs = os.path.join(args.out, "ref")
+        if args.conv_refs == "out/ref-conv":
+            args.conv_refs = os.path.join(args.out, "ref-conv")
     figures = args.figures or os.path.join(os.path.dirname(args.docs) or ".", "figures")
     os.makedirs(figures, exist_ok=True)
     os.makedirs(args.out, exist_ok=True)
@@ -149,35 +175,15 @@ def main():
     started = time.time()
 
     # References: at the shipped size with make_references.sh, else rendered here.
-    for _, scene, _, _, _ in SCENES:
-        ref = r.reference(scene)
-        record = os.path.join(args.refs, scene + ".json")
-        ok = os.path.exists(ref) and os.path.exists(record)
-        if ok:
-            with open(record) as f:
-                j = json.load(f)
-            ok = j.get("spp") == args.ref_spp and (not args.size or j.get("width") == args.size)
-        if not ok:
-            log("rendering the %s reference at %d spp" % (scene, args.ref_spp))
-            r.run([args.penumbra, "reference", "scenes/%s.json" % scene, "--spp",
-                   str(args.ref_spp), "-o", ref, "-q"] + r.size)
     ref_records = {}
     for _, scene, _, _, _ in SCENES:
-        with open(os.path.join(args.refs, scene + ".json")) as f:
-            ref_records[scene] = json.load(f)
+        ref_records[scene] = r.ensure_reference(scene, args.refs, args.ref_spp)
 
     # Quality per second (issue 12): its own generated block of RESULTS.md.
     if args.only in ("all", "quality"):
         for scene in quality_per_second.SCENES:
             if scene not in ref_records:
-                ref = r.reference(scene)
-                record = os.path.join(args.refs, scene + ".json")
-                if not os.path.exists(record):
-                    log("rendering the %s reference at %d spp" % (scene, args.ref_spp))
-                    r.run([args.penumbra, "reference", "scenes/%s.json" % scene, "--spp",
-                           str(args.ref_spp), "-o", ref, "-q"] + r.size)
-                with open(record) as f:
-                    ref_records[scene] = json.load(f)
+                ref_records[scene] = r.ensure_reference(scene, args.refs, args.ref_spp)
         quality_per_second.write(args.docs,
                                  quality_per_second.run(r, args, figures, ref_records))
         log("quality per second written to %s" % args.docs)

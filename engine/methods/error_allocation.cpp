@@ -19,21 +19,34 @@ constexpr uint64_t kAllocationSalt = 0x616c6c6f63617465ULL;
 // do not depend on the thread count.
 constexpr size_t kChunk = 4096;
 
-// sum_p f(p) over [0, n), chunked and joined in a fixed order.
+// (sum_p f(p).first, sum_p f(p).second) over [0, n), chunked and joined in a fixed order.
+struct SumPair {
+  double a = 0, b = 0;
+};
 template <class F>
-double deterministicSum(size_t n, F f) {
+SumPair deterministicSums(size_t n, F f) {
   return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<size_t>(0, n, kChunk), 0.0,
-      [&](const tbb::blocked_range<size_t>& r, double sum) {
-        // Four partial sums: independent chains the compiler can keep in vector lanes.
-        double part[4] = {0, 0, 0, 0};
+      tbb::blocked_range<size_t>(0, n, kChunk), SumPair{},
+      [&](const tbb::blocked_range<size_t>& r, SumPair sum) {
+        // Two partial sums of each: independent chains the compiler can keep in lanes.
+        double a[2] = {0, 0}, b[2] = {0, 0};
         size_t p = r.begin();
-        for (; p + 4 <= r.end(); p += 4)
-          for (size_t k = 0; k < 4; ++k) part[k] += f(p + k);
-        for (; p < r.end(); ++p) part[0] += f(p);
-        return sum + ((part[0] + part[1]) + (part[2] + part[3]));
+        for (; p + 2 <= r.end(); p += 2)
+          for (size_t k = 0; k < 2; ++k) {
+            const SumPair v = f(p + k);
+            a[k] += v.a;
+            b[k] += v.b;
+          }
+        for (; p < r.end(); ++p) {
+          const SumPair v = f(p);
+          a[0] += v.a;
+          b[0] += v.b;
+        }
+        return SumPair{sum.a + (a[0] + a[1]), sum.b + (b[0] + b[1])};
       },
-      std::plus<double>());
+      [](SumPair x, SumPair y) {
+        return SumPair{x.a + y.a, x.b + y.b};
+      });
 }
 
 }  // namespace
@@ -65,13 +78,19 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
   auto share = [&](size_t p, double lambda, double floor) {
     return std::max(0.0, std::max(floor, lambda * root[p]) - have[p]);
   };
-  auto spend = [&](double lambda, double floorScale) {
+  // What lambda spends, and d spend / d lambda: the roots of the pixels whose share grows
+  // with lambda (above their floor and their count).
+  auto spendAndSlope = [&](double lambda, double floorScale) {
     const double floor = floorScale * floorCount;
-    return deterministicSum(n, [&](size_t p) { return share(p, lambda, floor); });
+    return deterministicSums(n, [&](size_t p) {
+      const double target = lambda * root[p];
+      const bool grows = target > floor && target > have[p];
+      return SumPair{share(p, lambda, floor), grows ? root[p] : 0.0};
+    });
   };
-  // The floors alone may exceed the budget: scale them down, then find lambda by bisection.
+  // The floors alone may exceed the budget: scale them down.
   double floorScale = 1.0;
-  const double floorsOnly = spend(0.0, 1.0);
+  const double floorsOnly = spendAndSlope(0.0, 1.0).a;
   if (floorsOnly > double(budget)) floorScale = double(budget) / floorsOnly;
   // An upper bracket: at lambda0 = (budget + sum c) / sum sqrt(c_p) the shares without their
   // floors and clamps already sum to the budget, and those only add.
@@ -81,14 +100,21 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
       rootSum += root[p];
       haveSum += have[p];
     }
-  double lo = 0, hi = rootSum > 0 ? (double(budget) + haveSum) / rootSum : 1.0;
-  while (spend(hi, floorScale) < double(budget) && hi < 1e30) hi *= 2;
-  // To a relative 1e-5: the shares are rounded to whole samples anyway.
-  for (int i = 0; i < 60 && floorsOnly <= double(budget) && hi - lo > 1e-5 * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (spend(mid, floorScale) < double(budget) ? lo : hi) = mid;
+  double lambda = rootSum > 0 ? (double(budget) + haveSum) / rootSum : 1.0;
+  SumPair at = spendAndSlope(lambda, floorScale);
+  while (at.a < double(budget) && lambda < 1e30) at = spendAndSlope(lambda *= 2, floorScale);
+  // spend(lambda) is convex and piecewise linear in lambda, so Newton's steps from above stay
+  // above the root and reach it in a few steps (exactly, once on its last piece); stop within
+  // a hundredth of a sample: the shares are rounded to whole samples anyway.
+  for (int i = 0; i < 64 && floorsOnly <= double(budget); ++i) {
+    const double excess = at.a - double(budget);
+    if (!(excess > 0.01) || !(at.b > 0)) break;
+    const double next = lambda - excess / at.b;
+    if (!(next < lambda) || !(next > 0)) break;
+    lambda = next;
+    at = spendAndSlope(lambda, floorScale);
   }
-  const double lambda = floorsOnly <= double(budget) ? hi : 0.0;
+  if (!(floorsOnly <= double(budget))) lambda = 0.0;
   const double floor = floorScale * floorCount;
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, kChunk), [&](const tbb::blocked_range<size_t>& r) {

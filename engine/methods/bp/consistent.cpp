@@ -102,7 +102,9 @@ class ConsistentMethod final : public ProgressiveMethod {
   void adaptiveRound(const std::atomic<bool>* cancel);
   // Traces `count` more samples of pixel p into the film (and, once the tone map is known,
   // into its reservoir); the coarse pass keeps them in `coarse` instead.
-  void tracePixel(size_t p, uint32_t count, TraceChunk& chunk, std::vector<TracedSample>* coarse);
+  // Returns the rays they cast.
+  uint64_t tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
+                      std::vector<TracedSample>* coarse);
   void trainDue(const std::atomic<bool>* cancel);
   void countKept() {
     s_.kept = 0;
@@ -111,8 +113,6 @@ class ConsistentMethod final : public ProgressiveMethod {
   // Refreshes the filtered image's error estimate (for the noise threshold), when the film
   // grew enough.
   void refreshErrors(const std::atomic<bool>* cancel);
-  // raw[p] += absoluteWeight x (the mean raw MSE around p) / (the image's mean value)^2.
-  void addAbsoluteError(std::vector<float>& raw) const;
   // The error each pixel is ranked by now.
   std::vector<float> allocationError() const;
   // The filtered pixel's estimated relMSE now: the last estimate, falling as 1/n since.
@@ -127,9 +127,10 @@ class ConsistentMethod final : public ProgressiveMethod {
 
   BpState s_;
   Film film_;
-  std::vector<uint32_t> trainedAt_;  // kept samples at the network's last training
-  std::vector<uint32_t> drawn_;      // sample indices used from the pixel's stream
-  std::vector<uint32_t> rays_;       // rays its samples cast: their cost
+  std::vector<uint32_t> trainedAt_;           // kept samples at the network's last training
+  std::vector<uint32_t> drawn_;               // sample indices used from the pixel's stream
+  std::vector<uint32_t> rays_;                // rays its samples cast: their cost
+  uint64_t totalRays_ = 0, totalTraced_ = 0;  // their sums over the image
   std::vector<float> errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
   uint64_t spentAtReconstruction_ = 0;
@@ -139,18 +140,19 @@ class ConsistentMethod final : public ProgressiveMethod {
   uint32_t setSize_;
 };
 
-void ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
-                                  std::vector<TracedSample>* coarse) {
+uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
+                                      std::vector<TracedSample>* coarse) {
   const PreparedScene& prepared = s_.prepared;
   const int px = int(p % s_.width), py = int(p / s_.width);
   PixelState& pixel = s_.pixel(p);
+  const uint32_t raysBefore = rays_[p];
   for (uint32_t k = 0; k < count; ++k) {
     chunk.sampler.startSample(px, py, drawn_[p]++);
     const CameraSample cs = chunk.sampler.cameraSample(prepared.usesLens, prepared.usesTime);
     PathFeatures features;
-    const uint64_t raysBefore = chunk.counters.rays;
+    const uint64_t chunkRays = chunk.counters.rays;
     const vec3 L = traceRadiance(prepared, cs, chunk.sampler, chunk.counters, &features);
-    rays_[p] += uint32_t(chunk.counters.rays - raysBefore);
+    rays_[p] += uint32_t(chunk.counters.rays - chunkRays);
     ++pixel.traced;
     if (!isFinite(L)) {
       ++chunk.nonFinite;
@@ -164,24 +166,30 @@ void ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
       s_.store.keep(p, makeStoredSample(cs, px, py, L, s_.tone, s_.config.slicesPerSide), s_.tone);
   }
   pixel.drawn = drawn_[p];
+  return rays_[p] - raysBefore;
 }
 
 void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
   const size_t pixelCount = s_.pixelCount;
   const auto start = Clock::now();
   std::vector<std::vector<TracedSample>> traced(pixelCount);
+  std::atomic<uint64_t> rays{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (s_.cancelled(cancel)) return;
                       TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, setSize_);
+                      uint64_t local = 0;
                       for (size_t p = range.begin(); p < range.end(); ++p) {
                         if (usesNetworks())
                           initNetwork(s_.nets[p], s_.config.network,
                                       hashValues(s_.shape.seed, p, kNetSalt));
-                        tracePixel(p, uint32_t(s_.coarseSpp), chunk, &traced[p]);
+                        local += tracePixel(p, uint32_t(s_.coarseSpp), chunk, &traced[p]);
                       }
+                      rays += local;
                     });
   if (cancel && cancel->load()) return;
+  totalRays_ += rays;
+  totalTraced_ += uint64_t(s_.coarseSpp) * pixelCount;
   s_.tone = toneMapFor(film_.meanImage());
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
@@ -236,55 +244,57 @@ void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
   s_.times.reconstruct += secondsSince(start);
 }
 
-void ConsistentMethod::addAbsoluteError(std::vector<float>& raw) const {
-  const float w = s_.config.absoluteWeight;
-  if (!(w > 0)) return;
-  double sum = 0;  // the image's mean value, over channels
-  for (size_t p = 0; p < s_.pixelCount; ++p) {
-    const glm::dvec3 m = film_[p].mean;
-    sum += (m.x + m.y + m.z) / 3.0;
-  }
-  const double mean = sum / double(s_.pixelCount);
-  if (!(mean > 0)) return;
-  const float scale = float(double(w) / (mean * mean));
-  std::vector<float> mse(s_.pixelCount);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s_.pixelCount, 4096),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t p = range.begin(); p < range.end(); ++p) {
-                        const vec3 v = film_[p].varianceOfMean();
-                        mse[p] = (v.x + v.y + v.z) / 3.0f;
-                      }
-                    });
-  mse = recon::boxMean(mse, s_.width, s_.height, kAbsoluteRadius);
-  for (size_t p = 0; p < s_.pixelCount; ++p) raw[p] += scale * mse[p];
-}
-
 std::vector<float> ConsistentMethod::allocationError() const {
-  std::vector<float> e(s_.pixelCount);
+  const size_t n = s_.pixelCount;
   // The raw mean's relative variance ranks the pixels: measured on balls at 16 spp, ranking by
   // the filtered image's SURE estimate instead (RECONSTRUCTION.md §5 as written) gave a worse
   // filtered image than uniform sampling (1.1e-4 against 4.0e-5): SURE under-estimates the
   // error where it chose a wide filter, and those pixels starve; by the raw variance, 2.7e-5.
+  // One pass over the film (it is the large array) gives each pixel's raw relMSE, its raw MSE
+  // (for the absolute term) and its mean value.
+  std::vector<float> raw(n), mse(n);
+  std::vector<double> value(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        const FilmPixel& f = film_[p];
+                        const vec3 v = f.varianceOfMean();
+                        const float m = (v.x + v.y + v.z) / 3.0f;
+                        raw[p] = m / relativeErrorRegulariser(vec3(f.mean));
+                        mse[p] = m;
+                        value[p] = (f.mean.x + f.mean.y + f.mean.z) / 3.0;
+                      }
+                    });
+  // The absolute term: + absoluteWeight x (the mean raw MSE around p) / (the image's mean
+  // value)^2. The window makes a pixel's share depend on its region, not on whether its own
+  // few samples met a rare bright path.
+  const float w = s_.config.absoluteWeight;
+  float absoluteScale = 0;
+  if (w > 0) {
+    double sum = 0;  // in pixel order: the same bits whatever the thread count
+    for (double v : value) sum += v;
+    const double mean = sum / double(n);
+    if (mean > 0) {
+      absoluteScale = float(double(w) / (mean * mean));
+      mse = recon::boxMean(mse, s_.width, s_.height, kAbsoluteRadius);
+    }
+  }
   // A sample costs its rays: minimising the error at equal time rather than equal samples
   // divides each pixel's error by its cost per sample relative to the image's (the water-
   // filling then gives n ~ sqrt(e n / cost)), so a pixel of long paths is not over-sampled.
-  std::vector<float> raw = rawRelativeError(film_);
-  addAbsoluteError(raw);
-  uint64_t rays = 0, samples = 0;  // whole numbers: their sums are exact in any order
-  for (size_t p = 0; p < s_.pixelCount; ++p) {
-    rays += rays_[p];
-    samples += s_.pixel(p).traced;
-  }
-  const double meanCost = samples > 0 && rays > 0 ? double(rays) / double(samples) : 1.0;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s_.pixelCount, 4096),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t p = range.begin(); p < range.end(); ++p) {
-                        const uint32_t traced = s_.pixel(p).traced;
-                        const double cost =
-                            traced && rays_[p] ? double(rays_[p]) / traced / meanCost : 1.0;
-                        e[p] = float(raw[p] * networkFactor(p) / cost);
-                      }
-                    });
+  // The totals are whole numbers, kept as the samples are traced.
+  const double meanCost =
+      totalTraced_ > 0 && totalRays_ > 0 ? double(totalRays_) / double(totalTraced_) : 1.0;
+  std::vector<float> e(n);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+          const uint32_t traced = drawn_[p];
+          const double cost = traced && rays_[p] ? double(rays_[p]) / traced / meanCost : 1.0;
+          const float error = absoluteScale > 0 ? raw[p] + absoluteScale * mse[p] : raw[p];
+          e[p] = float(error * networkFactor(p) / cost);
+        }
+      });
   return dilate3x3(e, s_.width, s_.height);
 }
 
@@ -371,22 +381,25 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
     return;
   }
   start = Clock::now();
-  std::atomic<uint64_t> spent{0};
+  std::atomic<uint64_t> spent{0}, rays{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), 16),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (s_.cancelled(cancel)) return;
                       TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, setSize_);
-                      uint64_t local = 0;
+                      uint64_t local = 0, localRays = 0;
                       for (size_t i = range.begin(); i < range.end(); ++i) {
                         const uint32_t p = chosen[i];
                         const uint32_t before = film_[p].count;
-                        tracePixel(p, slots[p], chunk, nullptr);
+                        localRays += tracePixel(p, slots[p], chunk, nullptr);
                         s_.pixel(p).addedLastRound = film_[p].count - before;
                         local += slots[p];
                       }
                       spent += local;
+                      rays += localRays;
                     });
   if (cancel && cancel->load()) return;
+  totalRays_ += rays;
+  totalTraced_ += spent;
   s_.spent += spent;
   s_.traced += spent;
   countKept();

@@ -53,12 +53,14 @@ class FlushDenormals {
 #endif
 };
 
-// The widest instruction set the CPU has; PENUMBRA_RECON_SIMD=sse forces the baseline (both
-// give the same bits; the tests compare them).
+// The widest instruction set the CPU has; PENUMBRA_RECON_SIMD=sse or avx2 caps it (all give
+// the same bits; the tests compare them).
 SweepBlocks sweepBlocksForThisCpu() {
   const char* forced = std::getenv("PENUMBRA_RECON_SIMD");
-  if (forced && std::string(forced) == "sse") return sweep_sse::sweepBlocks;
+  const std::string cap = forced ? forced : "";
+  if (cap == "sse") return sweep_sse::sweepBlocks;
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+  if (cap != "avx2" && __builtin_cpu_supports("avx512f")) return sweep_avx512::sweepBlocks;
   if (__builtin_cpu_supports("avx2")) return sweep_avx2::sweepBlocks;
 #endif
   return sweep_sse::sweepBlocks;

@@ -103,6 +103,10 @@ namespace sweep_avx2 {
 bool sweepBlocks(const SweepInput&, const SweepConfig&, std::span<const Offset>, int, int, int,
                  std::vector<ScaleMaps>&, const std::atomic<bool>*);
 }
+namespace sweep_avx512 {
+bool sweepBlocks(const SweepInput&, const SweepConfig&, std::span<const Offset>, int, int, int,
+                 std::vector<ScaleMaps>&, const std::atomic<bool>*);
+}
 
 // One map per radius. Pixels that are not valid get output 0, mse +inf and ratio 1.
 std::vector<ScaleMaps> sweepScales(const SweepInput& in, const SweepConfig& config,

@@ -470,17 +470,19 @@ TEST(DenoiseDeterminism, SameOutputForOneAndTwoThreads) {
   }
 }
 
-// The sweep is compiled for the baseline and for AVX2 and picked at run time; both must give
-// the same bits (on a CPU without AVX2 this compares the baseline with itself).
+// The sweep is compiled for the baseline, AVX2 and AVX-512 and picked at run time; all must
+// give the same bits (on a CPU without the wider sets this compares the baseline with itself).
 TEST(DenoiseDeterminism, SameOutputForEveryInstructionSet) {
   const Scene s = gradientScene(64, 56, 0.1f, 42);
   const DenoiseResult widest = denoise(s.input(), DenoiseConfig{});
-  ASSERT_EQ(setenv("PENUMBRA_RECON_SIMD", "sse", 1), 0);
-  const DenoiseResult baseline = denoise(s.input(), DenoiseConfig{});
-  unsetenv("PENUMBRA_RECON_SIMD");
-  for (size_t p = 0; p < widest.output.pixels.size(); ++p) {
-    ASSERT_EQ(widest.output.pixels[p], baseline.output.pixels[p]) << "pixel " << p;
-    ASSERT_EQ(widest.mseEstimate[p], baseline.mseEstimate[p]) << "pixel " << p;
+  for (const char* cap : {"avx2", "sse"}) {
+    ASSERT_EQ(setenv("PENUMBRA_RECON_SIMD", cap, 1), 0);
+    const DenoiseResult narrower = denoise(s.input(), DenoiseConfig{});
+    unsetenv("PENUMBRA_RECON_SIMD");
+    for (size_t p = 0; p < widest.output.pixels.size(); ++p) {
+      ASSERT_EQ(widest.output.pixels[p], narrower.output.pixels[p]) << cap << ", pixel " << p;
+      ASSERT_EQ(widest.mseEstimate[p], narrower.mseEstimate[p]) << cap << ", pixel " << p;
+    }
   }
 }
 
