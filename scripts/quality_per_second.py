@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt
 
 SCENES = ["balls", "cornell", "dragon", "stairs", "tire"]
 EQUAL_TIME_METHODS = "ld,ld:filtered,gem,bp,bp:network-weight=1"
-EQUAL_SPP_METHODS = "ld,ld:filtered,gem,bp,bp:tuned"
+EQUAL_SPP_METHODS = "ld,ld:filtered,gem,bp,bp:tuned,bp:slice-steering=1"
 BEGIN = "<!-- BEGIN GENERATED quality by scripts/reproduce.py: edits below are overwritten -->"
 END = "<!-- END GENERATED quality -->"
 STYLES = {"ld": ("LD", "#4c72b0"), "ld:filtered": ("LD filtered", "#8172b2"),

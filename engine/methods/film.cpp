@@ -2,6 +2,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra {
@@ -64,15 +65,67 @@ vec3 FilmPixel::halfVarianceOfMean() const {
 Film::Film(int width, int height)
     : width_(width), height_(height), pixels_(size_t(width) * size_t(height)) {}
 
+void Film::enableSlices(int perSide) {
+  slicesPerSide_ = std::max(1, perSide);
+  slices_.assign(pixels_.size() * size_t(slicesPerPixel()), FilmSlice{});
+}
+
+void Film::add(size_t p, vec3 radiance, const PathFeatures& features, int slice) {
+  pixels_[p].add(radiance, features);
+  if (slice < 0 || slicesPerSide_ == 0) return;
+  FilmSlice& s = slices_[p * size_t(slicesPerPixel()) + size_t(slice)];
+  const glm::dvec3 L(radiance);
+  if (s.count % 2 == 0) {
+    s.sumA += L;
+    ++s.countA;
+  }
+  ++s.count;
+  const glm::dvec3 d = L - s.mean;
+  s.mean += d / double(s.count);
+  s.m2 += vec3(d * (L - s.mean));
+}
+
+bool Film::stratified(size_t p) const {
+  if (slicesPerSide_ == 0) return false;
+  const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
+  for (int k = 0; k < slicesPerPixel(); ++k)
+    if (s[k].count == 0) return false;
+  return true;
+}
+
+vec3 Film::estimate(size_t p) const {
+  if (!stratified(p)) return vec3(pixels_[p].mean);
+  const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
+  glm::dvec3 sum(0.0);
+  for (int k = 0; k < slicesPerPixel(); ++k) sum += s[k].mean;
+  return vec3(sum / double(slicesPerPixel()));
+}
+
+vec3 Film::estimateVarianceOfMean(size_t p) const {
+  const FilmPixel& px = pixels_[p];
+  if (!stratified(p)) return px.varianceOfMean();
+  // A slice of one sample has no variance of its own: the pixel's pooled per-sample variance
+  // stands in for it.
+  const vec3 pooled = px.variance();
+  const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
+  vec3 sum(0.0f);
+  for (int k = 0; k < slicesPerPixel(); ++k) {
+    const vec3 perSample = s[k].count > 1 ? s[k].m2 / float(s[k].count - 1) : pooled;
+    sum += perSample / float(s[k].count);
+  }
+  const float area = 1.0f / float(slicesPerPixel());
+  return sum * (area * area);
+}
+
 Image Film::meanImage() const {
   Image image(width_, height_);
-  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = vec3(pixels_[p].mean);
+  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = estimate(p);
   return image;
 }
 
 Image Film::varianceOfMeanImage() const {
   Image image(width_, height_);
-  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = pixels_[p].varianceOfMean();
+  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = estimateVarianceOfMean(p);
   return image;
 }
 
@@ -115,6 +168,27 @@ FilmBuffers Film::buffers() const {
             : vec3(0.0f);
     b.halfA[p] = restA + px.emission;
     b.halfB[p] = restB + px.emission;
+    if (stratified(p)) {
+      // The stratified estimate and its variance (which here includes the emission's: an
+      // over-estimate only where emitters are seen directly), and stratified halves once
+      // every slice has samples in both.
+      b.mean[p] = estimate(p);
+      b.variance[p] = estimateVarianceOfMean(p);
+      const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
+      bool halves = true;
+      glm::dvec3 a(0.0), bb(0.0);
+      for (int k = 0; k < slicesPerPixel() && halves; ++k) {
+        const uint32_t countB = s[k].count - s[k].countA;
+        halves = s[k].countA > 0 && countB > 0;
+        if (!halves) break;
+        a += s[k].sumA / double(s[k].countA);
+        bb += (s[k].mean * double(s[k].count) - s[k].sumA) / double(countB);
+      }
+      if (halves) {
+        b.halfA[p] = vec3(a / double(slicesPerPixel()));
+        b.halfB[p] = vec3(bb / double(slicesPerPixel()));
+      }
+    }
     b.emission[p] = px.emission;
     b.emissionVariance[p] = px.emissionM2 * perSample;
     b.albedo[p] = px.albedo;

@@ -49,6 +49,15 @@ struct FilmPixel {
   vec3 halfVarianceOfMean() const;
 };
 
+// One sub-pixel slice of a pixel (Film::enableSlices): its samples' running mean and squared
+// deviations (Welford), and the count and sum of those in its half A (samples alternate
+// between the halves within the slice, A first).
+struct FilmSlice {
+  glm::dvec3 mean{0.0}, sumA{0.0};
+  vec3 m2{0.0f};
+  uint32_t count = 0, countA = 0;
+};
+
 // What a reconstruction reads, one entry per pixel: the film's means and variances of the
 // mean. `variance` is that of the part a filter smooths (radiance - emission), the emission's
 // own is apart; the halves are the filtered part's halves plus the whole emission mean (so
@@ -61,6 +70,13 @@ struct FilmBuffers {
   std::vector<float> normalVariance, depth, depthVariance;
 };
 
+// The image's pixels. With slices enabled (a method that samples some sub-pixel slices more
+// than others), a pixel's estimate is the stratified one: the mean of its slices' means, each
+// slice weighing its area, so that it stays unbiased however unevenly the slices are sampled;
+// its variance of the mean is sum_k s_k^2 / (S^4 n_k). Until every slice has a sample the
+// plain mean stands in. The features, the emission and (until every slice has a sample in
+// each half) the halves stay plain means: they steer the reconstruction, and a filter that
+// tends to the identity as samples accumulate returns the stratified estimate.
 class Film {
  public:
   Film(int width, int height);
@@ -69,14 +85,35 @@ class Film {
   size_t pixelCount() const { return pixels_.size(); }
   FilmPixel& operator[](size_t p) { return pixels_[p]; }
   const FilmPixel& operator[](size_t p) const { return pixels_[p]; }
-  Image meanImage() const;
+
+  // S x S slices per pixel (S >= 1), numbered sy * S + sx; every pixel must still be empty.
+  void enableSlices(int perSide);
+  int slicesPerSide() const { return slicesPerSide_; }  // 0: no slices
+  int slicesPerPixel() const { return slicesPerSide_ * slicesPerSide_; }
+  const FilmSlice& slice(size_t p, int k) const {
+    return slices_[p * size_t(slicesPerPixel()) + size_t(k)];
+  }
+  // Adds one finite sample to pixel p and, with slices, to its slice `slice`.
+  void add(size_t p, vec3 radiance, const PathFeatures& features, int slice = -1);
+
+  // The pixel's estimate and its variance of the mean (per channel): stratified over the
+  // slices when every slice has a sample, else the plain mean's.
+  vec3 estimate(size_t p) const;
+  vec3 estimateVarianceOfMean(size_t p) const;
+  bool stratified(size_t p) const;
+
+  Image meanImage() const;  // the estimates
   Image varianceOfMeanImage() const;
   FilmBuffers buffers() const;
-  size_t memoryBytes() const { return pixels_.capacity() * sizeof(FilmPixel); }
+  size_t memoryBytes() const {
+    return pixels_.capacity() * sizeof(FilmPixel) + slices_.capacity() * sizeof(FilmSlice);
+  }
 
  private:
   int width_, height_;
   std::vector<FilmPixel> pixels_;
+  int slicesPerSide_ = 0;
+  std::vector<FilmSlice> slices_;
 };
 
 }  // namespace penumbra

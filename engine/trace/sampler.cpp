@@ -13,12 +13,15 @@ uint32_t roundUpPowerOfTwo(uint32_t v) {
   return p;
 }
 
-void PixelSampler::startSample(int px, int py, uint32_t sampleIndex) {
-  if (!havePixel_ || px != px_ || py != py_) {
+void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t stream) {
+  if (!havePixel_ || px != px_ || py != py_ || stream != stream_) {
     px_ = px;
     py_ = py;
+    stream_ = stream;
     havePixel_ = true;
-    pixelKey_ = hashValues(seed_, (uint64_t(uint32_t(py)) << 32) | uint32_t(px));
+    const uint64_t pixel = (uint64_t(uint32_t(py)) << 32) | uint32_t(px);
+    // Stream 0 keeps the key it always had, so the pixel's own samples do not change.
+    pixelKey_ = stream == 0 ? hashValues(seed_, pixel) : hashValues(seed_, pixel, stream);
     cachedCount_ = 0;
   }
   sampleIndex_ = sampleIndex;

@@ -104,8 +104,10 @@ class PixelSampler {
         seed_(seed),
         setSize_(roundUpPowerOfTwo(setSize < 1 ? 1 : setSize)) {}
 
-  // Starts sample `sampleIndex` of pixel (px, py); resets the dimension counter.
-  void startSample(int px, int py, uint32_t sampleIndex);
+  // Starts sample `sampleIndex` of pixel (px, py); resets the dimension counter. `stream`
+  // picks one of the pixel's independent sequences (0: the pixel's own, which every method
+  // uses; others, e.g. one per sub-pixel slice, are scrambled and shuffled apart from it).
+  void startSample(int px, int py, uint32_t sampleIndex, uint32_t stream = 0);
   // The 5D point of the current sample (dimensions 0-4). A pinhole camera needs no lens
   // sample and a scene without motion no time: those are left at 0.5, not computed.
   CameraSample cameraSample(bool needLens = true, bool needTime = true);
@@ -136,6 +138,7 @@ class PixelSampler {
   uint32_t sampleIndex_ = 0;
   uint32_t dimension_ = 0;
   int px_ = 0, py_ = 0;
+  uint32_t stream_ = 0;
   bool havePixel_ = false;
   // Hashing keys is the costly part of an LD sample; they depend only on the pixel and
   // the dimension, so they are computed once per pixel, on first use.

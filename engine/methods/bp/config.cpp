@@ -193,6 +193,11 @@ const ParamTable<BpConfig>& bpParams() {
         .real("sample-floor", "sample floor",
               "Consistent: every pixel keeps at least this share of the mean sample count",
               [](auto& c) -> auto& { return c.allocation.floorFraction; }, 0, 1, {0, 1})
+        .toggle(
+            "slice-steering", "slice steering",
+            "Consistent: send each pixel's new samples to its S x S slices by their variance "
+            "(Neyman allocation) and estimate the pixel by the slices' area-weighted mean",
+            "--slice-steering", [](auto& c) -> auto& { return c.sliceSteering; })
         .include(
             denoiseParams(), [](auto& c) -> auto& { return c.denoise; });
     t.group("BP method: ablations (ALGORITHM.md section 12)")

@@ -56,6 +56,12 @@ struct BpConfig {
   // (docs/bp-method.md).
   float absoluteWeight = 0.0f;
   ErrorAllocation allocation;
+  // Within a pixel, each new sample goes to the S x S slice (`slicesPerSide`) where it lowers
+  // the stratified estimate's variance most (Neyman allocation, per-slice variances shrunk
+  // towards the pixel's), drawn from that slice's own low-discrepancy stream; the estimate is
+  // the slices' area-weighted mean (methods/film.h). Off in the preset: measured, it gains
+  // nothing (docs/bp-method.md).
+  bool sliceSteering = false;
 
   int effectiveCoarseSpp(const RunShape& shape) const;
   // Empty when valid for a run of this shape, else a message naming the offending parameter.

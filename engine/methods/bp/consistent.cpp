@@ -59,7 +59,12 @@ class ConsistentMethod final : public ProgressiveMethod {
         rays_(s_.pixelCount, 0),
         errorAtReconstruction_(s_.pixelCount, 0.0f),
         countAtReconstruction_(s_.pixelCount, 0),
-        setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {}
+        setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {
+    if (config.sliceSteering) {
+      film_.enableSlices(config.slicesPerSide);
+      sliceDrawn_.assign(s_.pixelCount * size_t(film_.slicesPerPixel()), 0);
+    }
+  }
 
   void runRound(const std::atomic<bool>* cancel) override {
     if (done()) return;
@@ -102,9 +107,10 @@ class ConsistentMethod final : public ProgressiveMethod {
   void adaptiveRound(const std::atomic<bool>* cancel);
   // Traces `count` more samples of pixel p into the film (and, once the tone map is known,
   // into its reservoir); the coarse pass keeps them in `coarse` instead.
-  // Returns the rays they cast.
+  // With slice steering, `plan` says how many go to each slice (null: one slice after the
+  // other). Returns the rays they cast.
   uint64_t tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
-                      std::vector<TracedSample>* coarse);
+                      std::vector<TracedSample>* coarse, const uint32_t* plan = nullptr);
   void trainDue(const std::atomic<bool>* cancel);
   void countKept() {
     s_.kept = 0;
@@ -125,11 +131,18 @@ class ConsistentMethod final : public ProgressiveMethod {
     return usesNetworks() ? 1.0f + s_.config.networkWeight * s_.pixel(p).bias : 1.0f;
   }
 
+  // With slice steering: how `count` more samples of pixel p split over its slices
+  // (plan[k] samples for slice k).
+  void planSlices(size_t p, uint32_t count, uint32_t* plan) const;
+  // Sample j of slice k of pixel (px, py), started in chunk's sampler.
+  CameraSample sliceSample(int px, int py, int k, uint32_t j, TraceChunk& chunk) const;
+
   BpState s_;
   Film film_;
-  std::vector<uint32_t> trainedAt_;           // kept samples at the network's last training
-  std::vector<uint32_t> drawn_;               // sample indices used from the pixel's stream
-  std::vector<uint32_t> rays_;                // rays its samples cast: their cost
+  std::vector<uint32_t> sliceDrawn_;  // with slice steering: indices used of each slice's stream
+  std::vector<uint32_t> trainedAt_;   // kept samples at the network's last training
+  std::vector<uint32_t> drawn_;       // sample indices used from the pixel's stream
+  std::vector<uint32_t> rays_;        // rays its samples cast: their cost
   uint64_t totalRays_ = 0, totalTraced_ = 0;  // their sums over the image
   std::vector<float> errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
@@ -141,14 +154,33 @@ class ConsistentMethod final : public ProgressiveMethod {
 };
 
 uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
-                                      std::vector<TracedSample>* coarse) {
+                                      std::vector<TracedSample>* coarse, const uint32_t* plan) {
   const PreparedScene& prepared = s_.prepared;
   const int px = int(p % s_.width), py = int(p / s_.width);
   PixelState& pixel = s_.pixel(p);
   const uint32_t raysBefore = rays_[p];
+  const int slices = film_.slicesPerPixel(), side = film_.slicesPerSide();
+  uint32_t left[kMaxSlicesPerSide * kMaxSlicesPerSide] = {};
+  if (slices > 0)
+    for (int k = 0; k < slices; ++k) left[k] = plan ? plan[k] : 0;
+  int next = 0;
   for (uint32_t k = 0; k < count; ++k) {
-    chunk.sampler.startSample(px, py, drawn_[p]++);
-    const CameraSample cs = chunk.sampler.cameraSample(prepared.usesLens, prepared.usesTime);
+    int slice = -1;
+    CameraSample cs;
+    if (slices > 0) {
+      // Without a plan the slices take turns.
+      if (plan) {
+        while (left[next] == 0) next = (next + 1) % slices;
+        --left[next];
+      }
+      slice = next;
+      next = (next + 1) % slices;
+      ++drawn_[p];
+      cs = sliceSample(px, py, slice, sliceDrawn_[p * size_t(slices) + size_t(slice)]++, chunk);
+    } else {
+      chunk.sampler.startSample(px, py, drawn_[p]++);
+      cs = chunk.sampler.cameraSample(prepared.usesLens, prepared.usesTime);
+    }
     PathFeatures features;
     const uint64_t chunkRays = chunk.counters.rays;
     const vec3 L = traceRadiance(prepared, cs, chunk.sampler, chunk.counters, &features);
@@ -158,7 +190,7 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
       ++chunk.nonFinite;
       continue;
     }
-    film_[p].add(L, features);
+    film_.add(p, L, features, slice);
     if (!usesNetworks()) continue;  // the reservoirs only feed the networks
     if (coarse)
       coarse->push_back({cs, L});
@@ -167,6 +199,100 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
   }
   pixel.drawn = drawn_[p];
   return rays_[p] - raysBefore;
+}
+
+CameraSample ConsistentMethod::sliceSample(int px, int py, int k, uint32_t j,
+                                           TraceChunk& chunk) const {
+  const PreparedScene& prepared = s_.prepared;
+  const int side = film_.slicesPerSide();
+  const uint32_t slices = uint32_t(side * side);
+  PixelSampler& sampler = chunk.sampler;
+  // In the pixel's own low-discrepancy sequence every aligned run of S^2 samples has exactly one
+  // image point in each slice (a (0,2)-net, which the nested block order and the scrambles
+  // keep), so the slice's j-th sample is the one of run j that falls in it: with every slice
+  // sampled alike the samples are exactly the pixel's own, and a slice sampled more than the
+  // others still takes points of the same stratified sequence.
+  if (sampler.kind() == SamplerKind::LowDiscrepancy && sampler.setSize() % slices == 0) {
+    for (uint32_t t = 0; t < slices; ++t) {
+      const uint32_t index = j * slices + t;
+      sampler.startSample(px, py, index);
+      const CameraSample probe = sampler.cameraSample(false, false);
+      const int sx = std::min(side - 1, int((probe.imageX - float(px)) * float(side)));
+      const int sy = std::min(side - 1, int((probe.imageY - float(py)) * float(side)));
+      if (sy * side + sx != k) continue;
+      sampler.startSample(px, py, index);
+      return sampler.cameraSample(prepared.usesLens, prepared.usesTime);
+    }
+  }
+  // Otherwise (independent samples) the slice's own stream, its image point moved into the
+  // slice: uniform over it.
+  sampler.startSample(px, py, j, uint32_t(1 + k));
+  CameraSample cs = sampler.cameraSample(prepared.usesLens, prepared.usesTime);
+  const float fx = cs.imageX - float(px), fy = cs.imageY - float(py);
+  cs.imageX = float(px) + (float(k % side) + fx) / float(side);
+  cs.imageY = float(py) + (float(k / side) + fy) / float(side);
+  return cs;
+}
+
+void ConsistentMethod::planSlices(size_t p, uint32_t count, uint32_t* plan) const {
+  // Neyman allocation, greedily: each sample goes to the slice with the largest
+  // v_k / (n_k (n_k + 1)), the drop in sum_k v_k / n_k it brings (the areas are equal). The
+  // per-sample variance v_k is not the slice's own: ranking a slice by its own samples' spread
+  // starves the slices whose few samples missed a rare bright path and biases the estimate low
+  // (the z-test measured it). It is the same slice's in the 8 neighbouring pixels, pooled
+  // (an edge or a penumbra crossing p crosses them too) and shrunk towards their whole
+  // pixels' variance by kShrink samples' worth. An empty slice comes first.
+  constexpr double kShrink = 2.0;
+  const int slices = film_.slicesPerPixel();
+  const int px = int(p % s_.width), py = int(p / s_.width);
+  double m2[kMaxSlicesPerSide * kMaxSlicesPerSide] = {},
+                                dof[kMaxSlicesPerSide * kMaxSlicesPerSide] = {};
+  double pooledM2 = 0, pooledDof = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int qx = px + dx, qy = py + dy;
+      if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= s_.width || qy >= s_.height) continue;
+      const size_t q = size_t(qy) * s_.width + size_t(qx);
+      const FilmPixel& f = film_[q];
+      if (f.count > 1) {
+        pooledM2 += (f.m2.x + f.m2.y + f.m2.z) / 3.0;
+        pooledDof += double(f.count - 1);
+      }
+      for (int k = 0; k < slices; ++k) {
+        const FilmSlice& slice = film_.slice(q, k);
+        if (slice.count < 2) continue;
+        m2[k] += (double(slice.m2.x) + slice.m2.y + slice.m2.z) / 3.0;
+        dof[k] += double(slice.count - 1);
+      }
+    }
+  const double pooled = pooledDof > 0 ? pooledM2 / pooledDof : 0.0;
+  double v[kMaxSlicesPerSide * kMaxSlicesPerSide];
+  uint32_t n[kMaxSlicesPerSide * kMaxSlicesPerSide];
+  for (int k = 0; k < slices; ++k) {
+    v[k] = (m2[k] + kShrink * pooled) / (dof[k] + kShrink);
+    n[k] = film_.slice(p, k).count;
+    plan[k] = 0;
+  }
+  // A floor of half the even share keeps every slice's variance within twice what even
+  // sampling gives, whatever the neighbours say (an emitter's edge may cross p alone).
+  uint32_t total = count;
+  for (int k = 0; k < slices; ++k) total += n[k];
+  const double floor = 0.5 * double(total) / double(slices);
+  for (uint32_t i = 0; i < count; ++i) {
+    int best = 0;
+    double bestGain = -1.0;
+    for (int k = 0; k < slices; ++k) {
+      const uint32_t have = n[k] + plan[k];
+      // Ties go to the slice with fewer samples, then the lower index.
+      const double gain =
+          double(have) < floor ? HUGE_VAL : v[k] / (double(have) * double(have + 1));
+      if (gain > bestGain || (gain == bestGain && have < n[best] + plan[best])) {
+        best = k;
+        bestGain = gain;
+      }
+    }
+    ++plan[best];
+  }
 }
 
 void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
@@ -254,17 +380,19 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // (for the absolute term) and its mean value.
   std::vector<float> raw(n), mse(n);
   std::vector<double> value(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t p = range.begin(); p < range.end(); ++p) {
-                        const FilmPixel& f = film_[p];
-                        const vec3 v = f.varianceOfMean();
-                        const float m = (v.x + v.y + v.z) / 3.0f;
-                        raw[p] = m / relativeErrorRegulariser(vec3(f.mean));
-                        mse[p] = m;
-                        value[p] = (f.mean.x + f.mean.y + f.mean.z) / 3.0;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+          const FilmPixel& f = film_[p];
+          const bool strata = film_.stratified(p);
+          const vec3 v = strata ? film_.estimateVarianceOfMean(p) : f.varianceOfMean();
+          const glm::dvec3 mean = strata ? glm::dvec3(film_.estimate(p)) : f.mean;
+          const float m = (v.x + v.y + v.z) / 3.0f;
+          raw[p] = m / relativeErrorRegulariser(vec3(mean));
+          mse[p] = m;
+          value[p] = (mean.x + mean.y + mean.z) / 3.0;
+        }
+      });
   // The absolute term: + absoluteWeight x (the mean raw MSE around p) / (the image's mean
   // value)^2. The window makes a pixel's share depend on its region, not on whether its own
   // few samples met a rare bright path.
@@ -380,6 +508,20 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
     s_.stalled = true;
     return;
   }
+  // Slice plans from the film as it stands before the round's samples: every pixel's plan
+  // reads its neighbours, so none may change while they are made.
+  std::vector<uint32_t> plans;
+  const size_t slices = size_t(film_.slicesPerPixel());
+  if (slices > 0) {
+    start = Clock::now();
+    plans.assign(chosen.size() * slices, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), 256),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i < range.end(); ++i)
+                          planSlices(chosen[i], slots[chosen[i]], &plans[i * slices]);
+                      });
+    s_.times.select += secondsSince(start);
+  }
   start = Clock::now();
   std::atomic<uint64_t> spent{0}, rays{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chosen.size(), 16),
@@ -390,7 +532,8 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
                       for (size_t i = range.begin(); i < range.end(); ++i) {
                         const uint32_t p = chosen[i];
                         const uint32_t before = film_[p].count;
-                        localRays += tracePixel(p, slots[p], chunk, nullptr);
+                        localRays += tracePixel(p, slots[p], chunk, nullptr,
+                                                slices > 0 ? &plans[i * slices] : nullptr);
                         s_.pixel(p).addedLastRound = film_[p].count - before;
                         local += slots[p];
                       }
@@ -464,7 +607,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
   const size_t p = size_t(y) * s_.width + x;
   const PixelState& px = s_.pixel(p);
   const FilmPixel& f = film_[p];
-  in.estimate = vec3(f.mean);
+  in.estimate = film_.estimate(p);
   in.kept = f.count;
   in.traced = px.traced;
   in.addedLastRound = px.addedLastRound;

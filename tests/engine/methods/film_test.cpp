@@ -72,5 +72,54 @@ TEST(Film, FeaturesAreRunningMeansWithVariancesAndBrokenOnesAreDropped) {
   EXPECT_GT(buffers.normalVariance[0], 0.0f);
 }
 
+// With slices, a pixel's estimate weighs each slice by its area whatever its count (the
+// stratified estimate), its variance is sum_k s_k^2 / (S^4 n_k), and the halves are the
+// slices' halves, also weighed by area; until every slice has a sample the plain mean stands.
+TEST(Film, WithSlicesThePixelIsTheAreaWeightedMeanOfItsSlices) {
+  Film film(1, 1);
+  film.enableSlices(2);
+  // Slice 0 holds the bright sub-pixel structure and gets most samples.
+  const std::vector<std::pair<int, float>> samples = {{0, 8.0f}, {1, 1.0f},  {2, 1.0f}, {0, 10.0f},
+                                                      {0, 6.0f}, {0, 12.0f}, {1, 3.0f}, {2, 1.0f}};
+  for (size_t i = 0; i < samples.size(); ++i) {
+    film.add(0, vec3(samples[i].second), PathFeatures{}, samples[i].first);
+    if (i == 2) {
+      EXPECT_FALSE(film.stratified(0));  // slice 3 is still empty: the plain mean
+      EXPECT_FLOAT_EQ(film.estimate(0).x, (8.0f + 1.0f + 1.0f) / 3.0f);
+    }
+  }
+  film.add(0, vec3(5.0f), PathFeatures{}, 3);
+  ASSERT_TRUE(film.stratified(0));
+  // Slice means 9, 2, 1, 5: the plain mean (47 / 9) would favour the over-sampled slice 0.
+  EXPECT_FLOAT_EQ(film.estimate(0).x, (9.0f + 2.0f + 1.0f + 5.0f) / 4.0f);
+  EXPECT_FLOAT_EQ(film.meanImage().pixels[0].x, 17.0f / 4.0f);
+  // Per-sample variances: slice 0 {8,10,6,12}: 20/3; slice 1 {1,3}: 2; slice 2 {1,1}: 0;
+  // slice 3 has one sample and takes the pixel's pooled variance.
+  const FilmPixel& px = film[0];
+  const float pooled = px.variance().x;
+  const float expected = (20.0f / 3.0f / 4.0f + 2.0f / 2.0f + 0.0f / 2.0f + pooled / 1.0f) / 16.0f;
+  EXPECT_NEAR(film.estimateVarianceOfMean(0).x, expected, 1e-5f * expected);
+  // Slice 3 has no sample in half B yet: the halves stay plain.
+  FilmBuffers b = film.buffers();
+  EXPECT_FLOAT_EQ(b.mean[0].x, 17.0f / 4.0f);
+  EXPECT_FLOAT_EQ(b.halfA[0].x, px.meanA().x);
+  film.add(0, vec3(7.0f), PathFeatures{}, 3);
+  b = film.buffers();
+  // Halves per slice (A takes each slice's 1st, 3rd, ... sample): A = {8, 6}, {1}, {1}, {5};
+  // B = {10, 12}, {3}, {1}, {7}.
+  EXPECT_FLOAT_EQ(b.halfA[0].x, (7.0f + 1.0f + 1.0f + 5.0f) / 4.0f);
+  EXPECT_FLOAT_EQ(b.halfB[0].x, (11.0f + 3.0f + 1.0f + 7.0f) / 4.0f);
+}
+
+// Equal counts in every slice give the plain mean: stratification changes nothing then.
+TEST(Film, WithEquallySampledSlicesTheEstimateIsThePlainMean) {
+  Film film(1, 1);
+  film.enableSlices(2);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(0.0f, 4.0f);
+  for (int i = 0; i < 32; ++i) film.add(0, vec3(value(rng)), PathFeatures{}, i % 4);
+  EXPECT_NEAR(film.estimate(0).x, float(film[0].mean.x), 1e-6f);
+}
+
 }  // namespace
 }  // namespace penumbra
