@@ -16,6 +16,9 @@ const ParamTable<recon::DenoiseConfig>& denoiseParams() {
         .real(
             "nl-k", "colour k", "NL-means colour strength k (RECONSTRUCTION.md section 2)",
             [](auto& c) -> auto& { return c.k; }, 1e-3, 100, {0.05, 2}, true)
+        .integer("nl-patch", "patch radius",
+                 "NL-means patch radius: colour distances are averaged over (2r + 1)^2 pixels",
+                 [](auto& c) -> auto& { return c.patchRadius; }, 0, 8, {0, 4})
         .integer("sure-smooth", "SURE smoothing",
                  "Box radius over which each scale's SURE map is smoothed before the choice",
                  [](auto& c) -> auto& { return c.sureSmoothRadius; }, 0, 16, {0, 6})

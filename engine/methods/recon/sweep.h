@@ -61,7 +61,7 @@ struct SweepInput {
 
 struct SweepConfig {
   std::vector<int> radii;
-  float k = 0.45f, alpha = 1.0f;
+  float k = 0.7f, alpha = 1.0f;
   int patchRadius = 1;
   int denseRadius = 4;
 };
