@@ -106,11 +106,13 @@ void prepareOutputs(const RenderFlags& flags) {
     if (!path->empty()) createParentDirectory(*path);
 }
 
-void printSummary(const RenderFlags& flags, const Scene& s, double seconds, uint64_t rays,
-                  const std::string& extra) {
+// `spp`: the samples per pixel the image holds (a time limit or a noise threshold may stop a
+// run before, or past, the scene's spp).
+void printSummary(const RenderFlags& flags, const Scene& s, double spp, double seconds,
+                  uint64_t rays, const std::string& extra) {
   if (flags.quiet) return;
-  std::printf("%s: %dx%d, %d spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(), s.settings.width,
-              s.settings.height, s.settings.spp, extra.c_str(), seconds,
+  std::printf("%s: %dx%d, %.4g spp%s, %.2f s, %.2f Mrays/s\n", flags.output.c_str(),
+              s.settings.width, s.settings.height, spp, extra.c_str(), seconds,
               seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0);
 }
 
@@ -137,7 +139,7 @@ void runLd(const RenderFlags& flags, const PreparedScene& prepared, int threads)
   writeImage(flags.output, result.image, flags.exposure);
   if (!flags.variancePath.empty()) writeImage(flags.variancePath, result.varianceOfMean);
   if (!flags.statsPath.empty()) writeStats(flags.statsPath, flags, s, result, threads);
-  printSummary(flags, s, result.seconds, result.rays, "");
+  printSummary(flags, s, s.settings.spp, result.seconds, result.rays, "");
   warnNonFinite(result.nonFiniteSamples);
 }
 
@@ -298,7 +300,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   char extra[96];
   std::snprintf(extra, sizeof extra, " (%.1f traced), %d rounds",
                 double(snap->tracedSamples) / pixels, snap->round);
-  printSummary(flags, s, snap->seconds, snap->rays, extra);
+  printSummary(flags, s, double(snap->keptSamples) / pixels, snap->seconds, snap->rays, extra);
   warnNonFinite(snap->nonFiniteSamples);
 }
 
