@@ -139,10 +139,10 @@ class ConsistentMethod final : public ProgressiveMethod {
 
   BpState s_;
   Film film_;
-  std::vector<uint32_t> sliceDrawn_;  // with slice steering: indices used of each slice's stream
-  std::vector<uint32_t> trainedAt_;   // kept samples at the network's last training
-  std::vector<uint32_t> drawn_;       // sample indices used from the pixel's stream
-  std::vector<uint32_t> rays_;        // rays its samples cast: their cost
+  std::vector<uint32_t> sliceDrawn_;          // with slice steering: samples drawn in each slice
+  std::vector<uint32_t> trainedAt_;           // kept samples at the network's last training
+  std::vector<uint32_t> drawn_;               // sample indices used from the pixel's stream
+  std::vector<uint32_t> rays_;                // rays its samples cast: their cost
   uint64_t totalRays_ = 0, totalTraced_ = 0;  // their sums over the image
   std::vector<float> errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
