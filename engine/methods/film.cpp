@@ -93,12 +93,12 @@ bool Film::stratified(size_t p) const {
   return true;
 }
 
-vec3 Film::estimate(size_t p) const {
-  if (!stratified(p)) return vec3(pixels_[p].mean);
+glm::dvec3 Film::estimate(size_t p) const {
+  if (!stratified(p)) return pixels_[p].mean;
   const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
   glm::dvec3 sum(0.0);
   for (int k = 0; k < slicesPerPixel(); ++k) sum += s[k].mean;
-  return vec3(sum / double(slicesPerPixel()));
+  return sum / double(slicesPerPixel());
 }
 
 vec3 Film::estimateVarianceOfMean(size_t p) const {
@@ -119,7 +119,7 @@ vec3 Film::estimateVarianceOfMean(size_t p) const {
 
 Image Film::meanImage() const {
   Image image(width_, height_);
-  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = estimate(p);
+  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = vec3(estimate(p));
   return image;
 }
 
@@ -172,7 +172,7 @@ FilmBuffers Film::buffers() const {
       // The stratified estimate and its variance (which here includes the emission's: an
       // over-estimate only where emitters are seen directly), and stratified halves once
       // every slice has samples in both.
-      b.mean[p] = estimate(p);
+      b.mean[p] = vec3(estimate(p));
       b.variance[p] = estimateVarianceOfMean(p);
       const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
       bool halves = true;

@@ -97,8 +97,8 @@ class Film {
   void add(size_t p, vec3 radiance, const PathFeatures& features, int slice = -1);
 
   // The pixel's estimate and its variance of the mean (per channel): stratified over the
-  // slices when every slice has a sample, else the plain mean's.
-  vec3 estimate(size_t p) const;
+  // slices when every slice has a sample, else the plain mean's (exactly FilmPixel::mean).
+  glm::dvec3 estimate(size_t p) const;
   vec3 estimateVarianceOfMean(size_t p) const;
   bool stratified(size_t p) const;
 

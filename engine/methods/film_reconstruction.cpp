@@ -82,8 +82,8 @@ std::vector<float> rawRelativeError(const Film& film) {
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, e.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t p = range.begin(); p < range.end(); ++p) {
-          const vec3 v = film[p].varianceOfMean();
-          e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(vec3(film[p].mean));
+          const vec3 v = film.estimateVarianceOfMean(p);
+          e[p] = (v.x + v.y + v.z) / 3.0f / relativeErrorRegulariser(vec3(film.estimate(p)));
         }
       });
   return e;

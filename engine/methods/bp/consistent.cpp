@@ -380,19 +380,19 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // (for the absolute term) and its mean value.
   std::vector<float> raw(n), mse(n);
   std::vector<double> value(n);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t p = range.begin(); p < range.end(); ++p) {
-          const FilmPixel& f = film_[p];
-          const bool strata = film_.stratified(p);
-          const vec3 v = strata ? film_.estimateVarianceOfMean(p) : f.varianceOfMean();
-          const glm::dvec3 mean = strata ? glm::dvec3(film_.estimate(p)) : f.mean;
-          const float m = (v.x + v.y + v.z) / 3.0f;
-          raw[p] = m / relativeErrorRegulariser(vec3(mean));
-          mse[p] = m;
-          value[p] = (mean.x + mean.y + mean.z) / 3.0;
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        // The stratified estimate with slice steering, else the plain mean, bit for
+                        // bit.
+                        const vec3 v = film_.estimateVarianceOfMean(p);
+                        const glm::dvec3 mean = film_.estimate(p);
+                        const float m = (v.x + v.y + v.z) / 3.0f;
+                        raw[p] = m / relativeErrorRegulariser(vec3(mean));
+                        mse[p] = m;
+                        value[p] = (mean.x + mean.y + mean.z) / 3.0;
+                      }
+                    });
   // The absolute term: + absoluteWeight x (the mean raw MSE around p) / (the image's mean
   // value)^2. The window makes a pixel's share depend on its region, not on whether its own
   // few samples met a rare bright path.
@@ -607,7 +607,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
   const size_t p = size_t(y) * s_.width + x;
   const PixelState& px = s_.pixel(p);
   const FilmPixel& f = film_[p];
-  in.estimate = film_.estimate(p);
+  in.estimate = vec3(film_.estimate(p));
   in.kept = f.count;
   in.traced = px.traced;
   in.addedLastRound = px.addedLastRound;
