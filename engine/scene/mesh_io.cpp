@@ -1,7 +1,9 @@
 // Mesh file readers. PLY is parsed here directly (header, then ASCII tokens or
-// binary values in either byte order); OBJ/MTL parsing is tinyobjloader's, and
-// this file only turns its output into a penumbra Mesh and Materials.
+// binary values in either byte order); OBJ/MTL parsing is tinyobjloader's, after the strict
+// checks of obj_check.cpp, and this file turns its output into a penumbra Mesh and Materials.
 #include "scene/mesh_io.h"
+
+#include "scene/obj_check.h"
 
 #include <tiny_obj_loader.h>
 
@@ -549,7 +551,14 @@ struct CornerKeyHash {
 }  // namespace
 
 ObjData loadObj(const std::string& path) {
-  requireReadableFile(path);
+  // tinyobjloader reads a malformed number as 0 and goes on; check the text first.
+  const fs::path objFolder = fs::path(path).parent_path();
+  for (const std::string& library : checkObjText(readWholeFile(path), path)) {
+    // Where tinyobjloader looks for it; a missing library falls back to the default material.
+    const std::string mtl = (objFolder / library).string();
+    std::error_code error;
+    if (fs::is_regular_file(mtl, error)) checkMtlText(readWholeFile(mtl), mtl);
+  }
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
@@ -573,7 +582,6 @@ ObjData loadObj(const std::string& path) {
   const size_t texcoordCount = attrib.texcoords.size() / 2;
 
   ObjData result;
-  const fs::path objFolder = fs::path(path).parent_path();
   for (const tinyobj::material_t& source : reader.GetMaterials()) {
     const ObjMaterialDesc desc{source.name,
                                toVec3(source.diffuse),
