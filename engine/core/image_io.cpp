@@ -1,11 +1,17 @@
-// Image file formats: EXR through tinyexr, the stb formats, and our own PFM reader/writer.
+// Image file formats: EXR through OpenEXR, the stb formats, and our own PFM reader/writer.
 // All writes are assembled in memory and then published through writeFileAtomically, so a
 // crash or a full disk never leaves a half-written image where a viewer expects a whole one.
 #include "core/image_io.h"
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
-#include <tinyexr.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfPartType.h>
+#include <ImfOutputFile.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -26,6 +32,7 @@
 #include <memory>
 #include <numeric>
 #include <set>
+#include <stdexcept>
 
 namespace penumbra {
 namespace {
@@ -76,14 +83,6 @@ std::string trimmed(std::string s) {
   return s;
 }
 
-// Takes ownership of a tinyexr error string (which must be released through tinyexr).
-std::string takeExrError(const char* err, int code) {
-  if (!err) return "OpenEXR error " + std::to_string(code);
-  std::string message = trimmed(err);
-  FreeEXRErrorMessage(err);
-  return message;
-}
-
 uint32_t byteSwapped(uint32_t v) {
   return (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
 }
@@ -94,43 +93,214 @@ void swapFloatBytes(std::vector<float>& values) {
 
 // ---- EXR ---------------------------------------------------------------------------------
 
-Image readExr(const std::string& path) {
-  openForReading(path);  // turns a missing file into our usual message, not tinyexr's
-  float* rgba = nullptr;
-  int width = 0, height = 0;
-  const char* err = nullptr;
-  const int code = LoadEXR(&rgba, &width, &height, path.c_str(), &err);
-  if (code != TINYEXR_SUCCESS) fail(path, takeExrError(err, code));
-  std::unique_ptr<float, decltype(&std::free)> owned(rgba, &std::free);
-  if (width <= 0 || height <= 0) fail(path, "image has no pixels");
-  Image image(width, height);
-  for (size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
-  return image;
+// Bounds on what a file's header may ask for, so that a damaged or hostile file cannot make the
+// reader allocate without limit: OpenEXR's own check of the header's windows and tiles, and
+// ours on the float planes we allocate. Deflate (ZIP) packs at most 1032 bytes into one, so at
+// most about 260 four-byte values per byte of file; RLE and B44 pack fewer. More than
+// kMaxValuesPerByte values per byte of file cannot be a real ZIP, RLE or B44 file (a constant
+// image under PIZ or DWA could be one: such a file is refused with a message that says why).
+constexpr int kMaxExrSide = 1 << 16;
+constexpr uint64_t kMaxValuesPerByte = 1024;
+constexpr uint64_t kMaxExrValues = uint64_t(1) << 30;
+
+void limitOpenExrHeaders() {
+  static const bool once = [] {
+    Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
+    Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
+    return true;
+  }();
+  (void)once;
 }
 
-struct ExrHeaderOwner {
-  EXRHeader header;
-  ExrHeaderOwner() { InitEXRHeader(&header); }
-  ~ExrHeaderOwner() { FreeEXRHeader(&header); }
-};
+std::vector<unsigned char> readWholeFile(const std::string& path) {
+  FilePtr file = openForReading(path);
+  std::vector<unsigned char> bytes;
+  unsigned char buffer[1 << 16];
+  size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, file.get())) > 0)
+    bytes.insert(bytes.end(), buffer, buffer + n);
+  if (std::ferror(file.get())) fail(path, std::string("read error: ") + std::strerror(errno));
+  return bytes;
+}
 
-struct ExrImageOwner {
-  EXRImage image;
-  ExrImageOwner() { InitEXRImage(&image); }
-  ~ExrImageOwner() { FreeEXRImage(&image); }
-};
-
-// Converts one loaded channel (FLOAT or UINT after tinyexr's HALF->FLOAT request) to floats.
-float exrValue(const unsigned char* plane, int pixelType, size_t index) {
-  if (pixelType == TINYEXR_PIXELTYPE_UINT) {
-    uint32_t v;
-    std::memcpy(&v, plane + 4 * index, 4);
-    return float(v);
+// OpenEXR reads the bytes already in memory (they were checked there first).
+class MemoryStream : public Imf::IStream {
+ public:
+  MemoryStream(const std::string& name, const std::vector<unsigned char>& bytes)
+      : Imf::IStream(name.c_str()), bytes_(bytes) {}
+  bool read(char c[], int n) override {
+    if (n < 0 || uint64_t(n) > bytes_.size() - at_)
+      throw std::runtime_error("unexpected end of file at byte " + std::to_string(at_));
+    std::memcpy(c, bytes_.data() + at_, size_t(n));
+    at_ += uint64_t(n);
+    return at_ < bytes_.size();
   }
-  float v;
-  std::memcpy(&v, plane + 4 * index, 4);
-  return v;
+  uint64_t tellg() override { return at_; }
+  void seekg(uint64_t pos) override { at_ = std::min<uint64_t>(pos, bytes_.size()); }
+
+ private:
+  const std::vector<unsigned char>& bytes_;
+  uint64_t at_ = 0;
+};
+
+// What the reader needs to know of a header before OpenEXR reads it: the first part's data
+// window and how many chunks (scanline blocks or tiles) it is stored in. Every chunk has an
+// 8-byte entry in the offset table after the header, so a window whose chunk count does not
+// fit in the file is damaged; checking that first bounds what OpenEXR allocates for its tables
+// by the file's own size.
+struct ExrLayout {
+  int64_t width = 0, height = 0, chunks = 0;
+  uint64_t headerBytes = 0;
+};
+
+ExrLayout readExrLayout(const std::string& path, const std::vector<unsigned char>& bytes) {
+  size_t at = 0;
+  auto need = [&](size_t n, const char* what) {
+    if (bytes.size() - at < n)
+      fail(path, std::string("truncated EXR header (") + what + " at byte " + std::to_string(at) +
+                     ")");
+  };
+  auto readInt = [&](const char* what) {
+    need(4, what);
+    const uint32_t v = uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 |
+                       uint32_t(bytes[at + 2]) << 16 | uint32_t(bytes[at + 3]) << 24;
+    at += 4;
+    return v;
+  };
+  auto readName = [&](const char* what) {
+    const size_t start = at;
+    while (at < bytes.size() && bytes[at] != 0 && at - start < 256) ++at;
+    if (at >= bytes.size() || bytes[at] != 0)
+      fail(path, std::string("damaged EXR header (") + what + " at byte " + std::to_string(start) +
+                     " has no end)");
+    return std::string(reinterpret_cast<const char*>(bytes.data()) + start, at++ - start);
+  };
+  if (readInt("magic number") != 20000630u) fail(path, "not an OpenEXR file");
+  const uint32_t version = readInt("version");
+  if (version & 0x1000u) fail(path, "multi-part EXR files are not supported");
+  if (version & 0x800u) fail(path, "deep EXR files are not supported");
+  const bool tiled = (version & 0x200u) != 0;
+
+  bool haveWindow = false, haveTiles = false;
+  int64_t box[4] = {};
+  uint32_t tileX = 0, tileY = 0;
+  int compression = 0;
+  for (;;) {
+    const std::string name = readName("attribute name");
+    if (name.empty()) break;
+    const std::string type = readName("attribute type");
+    const uint32_t size = readInt("attribute size");
+    const size_t valueAt = at;
+    need(size, ("attribute '" + name + "'").c_str());
+    if (name == "dataWindow" && type == "box2i" && size == 16) {
+      for (int64_t& v : box) v = int32_t(readInt("dataWindow"));
+      haveWindow = true;
+    } else if (name == "tiles" && type == "tiledesc" && size >= 8) {
+      tileX = readInt("tiles");
+      tileY = readInt("tiles");
+      haveTiles = true;
+    } else if (name == "compression" && type == "compression" && size == 1) {
+      compression = bytes[at];
+    }
+    at = valueAt + size;
+  }
+  if (!haveWindow) fail(path, "EXR header has no dataWindow");
+  ExrLayout layout;
+  layout.width = box[2] - box[0] + 1;
+  layout.height = box[3] - box[1] + 1;
+  layout.headerBytes = at;
+  if (layout.width <= 0 || layout.height <= 0) fail(path, "image has no pixels");
+  if (tiled) {
+    if (!haveTiles || tileX == 0 || tileY == 0) fail(path, "tiled EXR file without a tile size");
+    layout.chunks = ((layout.width + tileX - 1) / tileX) * ((layout.height + tileY - 1) / tileY);
+  } else {
+    // Scanlines per chunk of each compression (NONE, RLE, ZIPS: 1; ZIP, PXR24: 16; PIZ, B44,
+    // B44A, DWAA: 32; DWAB: 256).
+    static const int kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+    const int lines = compression >= 0 && compression < 10 ? kLines[compression] : 1;
+    layout.chunks = (layout.height + lines - 1) / lines;
+  }
+  const uint64_t room = (bytes.size() - layout.headerBytes) / 8;
+  if (uint64_t(layout.chunks) > room)
+    fail(path, "truncated or damaged: its " + std::to_string(layout.width) + "x" +
+                   std::to_string(layout.height) + " data window needs " +
+                   std::to_string(layout.chunks) + " chunks, the file has room for " +
+                   std::to_string(room));
+  return layout;
+}
+
+struct ExrPlanes {
+  int width = 0, height = 0;
+  std::vector<ExrChannel> channels;  // in the file's (sorted) order
+};
+
+ExrPlanes readExrPlanes(const std::string& path) {
+  const std::vector<unsigned char> bytes = readWholeFile(path);
+  const uint64_t fileBytes = bytes.size();
+  readExrLayout(path, bytes);
+  limitOpenExrHeaders();
+  ExrPlanes out;
+  try {
+    MemoryStream stream(path, bytes);
+    Imf::InputFile file(stream);
+    const Imf::Header& header = file.header();
+    if (header.hasType() && Imf::isDeepData(header.type()))
+      fail(path, "deep EXR files are not supported");
+    const Imath::Box2i window = header.dataWindow();
+    const int64_t width = int64_t(window.max.x) - window.min.x + 1;
+    const int64_t height = int64_t(window.max.y) - window.min.y + 1;
+    if (width <= 0 || height <= 0) fail(path, "image has no pixels");
+    uint64_t channelCount = 0;
+    for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
+      if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
+        fail(path, std::string("channel '") + c.name() + "' is subsampled, which is not supported");
+      ++channelCount;
+    }
+    if (channelCount == 0) fail(path, "EXR file has no channels");
+    const uint64_t values = uint64_t(width) * uint64_t(height) * channelCount;
+    if (values > kMaxExrValues || values > kMaxValuesPerByte * uint64_t(fileBytes))
+      fail(path, "data window " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                     std::to_string(channelCount) + " channels is too large for a file of " +
+                     std::to_string(fileBytes) + " bytes");
+    out.width = int(width);
+    out.height = int(height);
+    Imf::FrameBuffer frame;
+    for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
+      out.channels.emplace_back(c.name(), std::vector<float>(size_t(width) * size_t(height), 0.0f));
+      frame.insert(c.name(), Imf::Slice::Make(Imf::FLOAT, out.channels.back().second.data(), window,
+                                             sizeof(float), sizeof(float) * size_t(width)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+  } catch (const ImageIoError&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(path, trimmed(e.what()));
+  }
+  return out;
+}
+
+// RGB from R, G, B (alpha and other channels dropped), or a single channel as grey.
+Image readExr(const std::string& path) {
+  const ExrPlanes planes = readExrPlanes(path);
+  const std::vector<float>* rgb[3] = {nullptr, nullptr, nullptr};
+  for (const auto& [name, values] : planes.channels) {
+    if (name == "R") rgb[0] = &values;
+    if (name == "G") rgb[1] = &values;
+    if (name == "B") rgb[2] = &values;
+  }
+  if (!(rgb[0] && rgb[1] && rgb[2])) {
+    if (planes.channels.size() != 1) {
+      std::string names;
+      for (const auto& channel : planes.channels) names += (names.empty() ? "" : ", ") + channel.first;
+      fail(path, "no R, G, B channels to read as an image (it has " + names + ")");
+    }
+    rgb[0] = rgb[1] = rgb[2] = &planes.channels[0].second;
+  }
+  Image image(planes.width, planes.height);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = vec3((*rgb[0])[i], (*rgb[1])[i], (*rgb[2])[i]);
+  return image;
 }
 
 // ---- PFM ---------------------------------------------------------------------------------
@@ -420,7 +590,7 @@ void writeExrLayers(const std::string& path, int width, int height,
   const size_t pixelCount = size_t(width) * height;
   std::set<std::string> seen;
   for (const auto& [name, values] : channels) {
-    if (name.empty() || name.size() >= sizeof(EXRChannelInfo::name))
+    if (name.empty() || name.size() > 255)
       fail(path, "invalid EXR channel name '" + name + "' (must be 1 to 255 bytes)");
     if (!seen.insert(name).second) fail(path, "duplicate EXR channel '" + name + "'");
     if (values.size() != pixelCount)
@@ -428,100 +598,31 @@ void writeExrLayers(const std::string& path, int width, int height,
                      " values, expected " + std::to_string(pixelCount));
   }
 
-  // OpenEXR readers expect the channel list in byte-wise name order (what std::string's < does).
-  std::vector<size_t> order(channels.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return channels[a].first < channels[b].first; });
-
-  const size_t count = channels.size();
-  std::vector<EXRChannelInfo> infos(count);
-  std::vector<int> pixelTypes(count, TINYEXR_PIXELTYPE_FLOAT);
-  std::vector<unsigned char*> planes(count);
-  for (size_t i = 0; i < count; ++i) {
-    const ExrChannel& channel = channels[order[i]];
-    std::memset(&infos[i], 0, sizeof(EXRChannelInfo));
-    std::memcpy(infos[i].name, channel.first.data(), channel.first.size());
-    infos[i].pixel_type = TINYEXR_PIXELTYPE_FLOAT;
-    infos[i].x_sampling = infos[i].y_sampling = 1;
-    // tinyexr only reads through this pointer while saving.
-    planes[i] = reinterpret_cast<unsigned char*>(const_cast<float*>(channel.second.data()));
-  }
-
-  // Header and image point into the vectors above, so they are not Free'd through tinyexr.
-  EXRHeader header;
-  InitEXRHeader(&header);
-  header.num_channels = int(count);
-  header.channels = infos.data();
-  header.pixel_types = pixelTypes.data();
-  header.requested_pixel_types = pixelTypes.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  EXRImage image;
-  InitEXRImage(&image);
-  image.images = planes.data();
-  image.width = width;
-  image.height = height;
-  image.num_channels = int(count);
-
-  unsigned char* memory = nullptr;
-  const char* err = nullptr;
-  const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
-  if (size == 0 || !memory) fail(path, takeExrError(err, TINYEXR_ERROR_SERIALZATION_FAILED));
-  std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
-  writeFileAtomically(path,
-                      [&](const std::string& tmpPath) { writeBytes(path, tmpPath, memory, size); });
+  // The header's channel list keeps the names sorted, as the format requires; every channel
+  // is written as 32-bit float, ZIP-compressed.
+  writeFileAtomically(path, [&](const std::string& tmpPath) {
+    try {
+      Imf::Header header(width, height);
+      header.compression() = Imf::ZIP_COMPRESSION;
+      Imf::FrameBuffer frame;
+      for (const auto& [name, values] : channels) {
+        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        // OpenEXR only reads through this pointer while writing.
+        frame.insert(name, Imf::Slice(Imf::FLOAT,
+                                      reinterpret_cast<char*>(const_cast<float*>(values.data())),
+                                      sizeof(float), sizeof(float) * size_t(width)));
+      }
+      Imf::OutputFile file(tmpPath.c_str(), header);
+      file.setFrameBuffer(frame);
+      file.writePixels(height);
+    } catch (const std::exception& e) {
+      fail(path, "cannot write file: " + trimmed(e.what()));
+    }
+  });
 }
 
 std::vector<ExrChannel> readExrChannels(const std::string& path) {
-  openForReading(path);
-  EXRVersion version;
-  const int versionCode = ParseEXRVersionFromFile(&version, path.c_str());
-  if (versionCode != TINYEXR_SUCCESS) fail(path, "not an OpenEXR file");
-  if (version.multipart || version.non_image)
-    fail(path, "multi-part and deep EXR files are not supported");
-
-  ExrHeaderOwner header;
-  const char* err = nullptr;
-  int code = ParseEXRHeaderFromFile(&header.header, &version, path.c_str(), &err);
-  if (code != TINYEXR_SUCCESS) fail(path, takeExrError(err, code));
-  for (int c = 0; c < header.header.num_channels; ++c) {
-    if (header.header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
-      header.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
-  }
-
-  ExrImageOwner image;
-  code = LoadEXRImageFromFile(&image.image, &header.header, path.c_str(), &err);
-  if (code != TINYEXR_SUCCESS) fail(path, takeExrError(err, code));
-  const EXRImage& loaded = image.image;
-  const int width = loaded.width, height = loaded.height;
-  if (width <= 0 || height <= 0 || loaded.num_channels != header.header.num_channels)
-    fail(path, "image has no pixels");
-
-  std::vector<ExrChannel> channels;
-  for (int c = 0; c < loaded.num_channels; ++c) {
-    const int type = header.header.requested_pixel_types[c];
-    std::vector<float> values(size_t(width) * height, 0.0f);
-    if (loaded.images) {
-      for (size_t i = 0; i < values.size(); ++i) values[i] = exrValue(loaded.images[c], type, i);
-    } else if (loaded.tiles) {
-      // Tiled file: reassemble the full-resolution level; tile offsets count tiles.
-      const int tileW = header.header.tile_size_x, tileH = header.header.tile_size_y;
-      for (int t = 0; t < loaded.num_tiles; ++t) {
-        const EXRTile& tile = loaded.tiles[t];
-        for (int j = 0; j < tile.height; ++j) {
-          for (int i = 0; i < tile.width; ++i) {
-            const long x = long(tile.offset_x) * tileW + i, y = long(tile.offset_y) * tileH + j;
-            if (x < width && y < height)
-              values[size_t(y) * width + x] = exrValue(tile.images[c], type, size_t(j) * tileW + i);
-          }
-        }
-      }
-    } else {
-      fail(path, "EXR file holds no pixel data");
-    }
-    channels.emplace_back(header.header.channels[c].name, std::move(values));
-  }
-  return channels;
+  return readExrPlanes(path).channels;
 }
 
 }  // namespace penumbra

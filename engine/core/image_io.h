@@ -20,7 +20,7 @@ struct ImageIoError : std::runtime_error {
 };
 
 // Reads an image by extension (case-insensitive) into linear RGB:
-//   .exr                     RGB(A) through tinyexr (alpha dropped, greyscale replicated)
+//   .exr                     RGB(A) through OpenEXR (alpha dropped, a single channel as grey)
 //   .pfm                     "PF" colour or "Pf" greyscale, either endianness
 //   .hdr                     Radiance RGBE, already linear
 //   .png .jpg .jpeg .tga .bmp  8/16-bit, decoded from sRGB to linear

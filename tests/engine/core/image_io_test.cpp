@@ -5,7 +5,12 @@
 
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
-#include <tinyexr.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <ImfRgbaFile.h>
+#include <ImfTiledOutputFile.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -319,72 +324,76 @@ TEST(ImageIo, ExrLayersRoundTrip) {
 
 TEST(ImageIo, ReadExrChannelsConvertsHalfToFloat) {
   const std::string path = freshDir("half") + "/half.exr";
-  const float rgb[] = {0.5f, 1.25f, -3.0f, 1024.0f, 0.0f, 0.125f};  // exact in half precision
-  ASSERT_EQ(SaveEXR(rgb, 2, 1, 3, /*save_as_fp16=*/1, path.c_str(), nullptr), TINYEXR_SUCCESS);
+  // Values exact in half precision, written as a half RGB file.
+  const Imf::Rgba pixels[] = {Imf::Rgba(0.5f, 1.25f, -3.0f), Imf::Rgba(1024.0f, 0.0f, 0.125f)};
+  {
+    Imf::RgbaOutputFile file(path.c_str(), 2, 1, Imf::WRITE_RGB);
+    file.setFrameBuffer(pixels, 1, 2);
+    file.writePixels(1);
+  }
   std::map<std::string, std::vector<float>> byName;
   for (auto& [name, values] : readExrChannels(path)) byName[name] = values;
   EXPECT_EQ(byName["R"], (std::vector<float>{0.5f, 1024.0f}));
   EXPECT_EQ(byName["G"], (std::vector<float>{1.25f, 0.0f}));
   EXPECT_EQ(byName["B"], (std::vector<float>{-3.0f, 0.125f}));
+  // The image reader takes R, G, B; a file of one channel reads as grey.
+  const Image rgb = readImage(path);
+  EXPECT_EQ(rgb.at(1, 0), vec3(1024.0f, 0.0f, 0.125f));
 }
 
-// Tiled EXRs (as some compositors write) come back as tiles; the reader must reassemble them,
-// including the partial tiles at the right and bottom edges. Pixel (x, y) holds 10 y + x.
-TEST(ImageIo, ReadExrChannelsReassemblesTiles) {
+// Tiled EXRs (as some compositors write), with partial tiles at the right and bottom edges and
+// a data window that does not start at the origin. Pixel (x, y) of the window holds 10 y + x.
+TEST(ImageIo, ReadExrChannelsReadsTiledFiles) {
   const std::string path = freshDir("tiled") + "/tiled.exr";
   const int width = 5, height = 3, tileSize = 2;
-  EXRHeader header;
-  InitEXRHeader(&header);
-  EXRChannelInfo channel{};
-  std::strcpy(channel.name, "Y");
-  int pixelType = TINYEXR_PIXELTYPE_FLOAT;
-  header.num_channels = 1;
-  header.channels = &channel;
-  header.pixel_types = header.requested_pixel_types = &pixelType;
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_NONE;
-  header.tiled = 1;
-  header.tile_size_x = header.tile_size_y = tileSize;
-  header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
-  header.data_window = {0, 0, width - 1, height - 1};
-  header.display_window = header.data_window;
-
-  const int tilesX = 3, tilesY = 2;
-  std::vector<std::vector<float>> tileData(tilesX * tilesY,
-                                           std::vector<float>(tileSize * tileSize, 0.0f));
-  std::vector<unsigned char*> tilePlanes(tileData.size());
-  std::vector<EXRTile> tiles(tileData.size());
-  for (int ty = 0; ty < tilesY; ++ty) {
-    for (int tx = 0; tx < tilesX; ++tx) {
-      const int i = ty * tilesX + tx;
-      EXRTile& tile = tiles[i];
-      tile = EXRTile{};
-      tile.offset_x = tx;  // in tiles, not pixels
-      tile.offset_y = ty;
-      tile.width = std::min(tileSize, width - tx * tileSize);
-      tile.height = std::min(tileSize, height - ty * tileSize);
-      for (int j = 0; j < tile.height; ++j)
-        for (int k = 0; k < tile.width; ++k)
-          tileData[i][j * tileSize + k] = float(10 * (ty * tileSize + j) + tx * tileSize + k);
-      tilePlanes[i] = reinterpret_cast<unsigned char*>(tileData[i].data());
-      tile.images = &tilePlanes[i];
-    }
+  std::vector<float> values;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) values.push_back(float(10 * y + x));
+  {
+    const Imath::Box2i window(Imath::V2i(7, -2), Imath::V2i(7 + width - 1, -2 + height - 1));
+    Imf::Header header(window, window);
+    header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    header.setTileDescription(Imf::TileDescription(tileSize, tileSize, Imf::ONE_LEVEL));
+    Imf::TiledOutputFile file(path.c_str(), header);
+    Imf::FrameBuffer frame;
+    frame.insert("Y", Imf::Slice::Make(Imf::FLOAT, values.data(), window, sizeof(float),
+                                       sizeof(float) * width));
+    file.setFrameBuffer(frame);
+    file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
   }
-  EXRImage image;
-  InitEXRImage(&image);
-  image.tiles = tiles.data();
-  image.num_tiles = int(tiles.size());
-  image.width = width;
-  image.height = height;
-  image.num_channels = 1;
-  ASSERT_EQ(SaveEXRImageToFile(&image, &header, path.c_str(), nullptr), TINYEXR_SUCCESS);
-
   const std::vector<ExrChannel> channels = readExrChannels(path);
   ASSERT_EQ(channels.size(), 1u);
   EXPECT_EQ(channels[0].first, "Y");
-  std::vector<float> expected;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) expected.push_back(float(10 * y + x));
-  EXPECT_EQ(channels[0].second, expected);
+  EXPECT_EQ(channels[0].second, values);
+  const Image grey = readImage(path);
+  ASSERT_EQ(grey.width, width);
+  ASSERT_EQ(grey.height, height);
+  EXPECT_EQ(grey.at(3, 2), vec3(23.0f));
+}
+
+// A header that asks for far more pixels than the file could hold is refused before any
+// allocation; so is a file whose channels are not R, G, B when read as an image.
+TEST(ImageIo, ExrReaderRefusesImplausibleSizesAndMissingColour) {
+  const std::string dir = freshDir("exr_bad");
+  {
+    const Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i(60000, 60000));
+    Imf::Header header(window, window);
+    header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    header.compression() = Imf::ZIP_COMPRESSION;
+    // Only the header and offsets are written: the file is a few hundred kilobytes.
+    Imf::OutputFile file((dir + "/huge.exr").c_str(), header);
+  }
+  expectIoError([&] { readExrChannels(dir + "/huge.exr"); }, dir + "/huge.exr",
+                "too large for a file of");
+  // A file cut short inside its offset table: the header's window needs more chunks than
+  // the rest of the file can list.
+  writeExrLayers(dir + "/tall.exr", 1, 4096, {{"Y", std::vector<float>(4096, 0.5f)}});
+  fs::resize_file(dir + "/tall.exr", 600);
+  expectIoError([&] { readExrChannels(dir + "/tall.exr"); }, dir + "/tall.exr",
+                "truncated or damaged: its 1x4096 data window needs 256 chunks");
+  writeExrLayers(dir + "/two.exr", 1, 1, {{"depth", {1.0f}}, {"alpha", {1.0f}}});
+  expectIoError([&] { readImage(dir + "/two.exr"); }, dir + "/two.exr",
+                "no R, G, B channels to read as an image (it has alpha, depth)");
 }
 
 TEST(ImageIo, ExrLayersRejectsBadChannels) {
