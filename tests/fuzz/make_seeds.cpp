@@ -1,0 +1,98 @@
+// Writes the seed corpora of the file-format fuzz targets: small, valid files of every kind the
+// readers take, made with the project's own writers where it has them.
+// Usage: make_seeds FOLDER   (creates FOLDER/obj, mtl, ply, exr, png, pfm)
+#include "core/image.h"
+#include "core/image_io.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace penumbra;
+
+namespace {
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// A PLY quad (two triangles) with normals and uvs, in the given format; binary values are
+// written in the named byte order.
+std::string plyQuad(const std::string& format) {
+  std::string header = "ply\nformat " + format +
+                       " 1.0\ncomment seed\nelement vertex 4\nproperty float x\n"
+                       "property float y\nproperty float z\nproperty float nx\n"
+                       "property float ny\nproperty float nz\nproperty float u\nproperty float v\n"
+                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float vertices[4][8] = {{0, 0, 0, 0, 0, 1, 0, 0},
+                                {1, 0, 0, 0, 0, 1, 1, 0},
+                                {1, 1, 0, 0, 0, 1, 1, 1},
+                                {0, 1, 0, 0, 0, 1, 0, 1}};
+  if (format == "ascii") {
+    std::string body;
+    for (const auto& v : vertices) {
+      for (float x : v) body += std::to_string(x) + " ";
+      body += "\n";
+    }
+    return header + body + "4 0 1 2 3\n";
+  }
+  const bool big = format == "binary_big_endian";
+  std::string body;
+  auto put = [&](const void* value, size_t n) {
+    std::string bytes(static_cast<const char*>(value), n);
+    if (big) bytes.assign(bytes.rbegin(), bytes.rend());
+    body += bytes;
+  };
+  for (const auto& v : vertices)
+    for (float x : v) put(&x, 4);
+  const uint8_t corners = 4;
+  body += char(corners);
+  for (int32_t i = 0; i < 4; ++i) put(&i, 4);
+  return header + body;
+}
+
+Image gradient(int w, int h) {
+  Image image(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) image.pixels[size_t(y) * w + x] = vec3(x * 0.25f, y * 0.5f, 1.5f);
+  return image;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_seeds FOLDER\n");
+    return 2;
+  }
+  const fs::path root = argv[1];
+  for (const char* kind : {"obj", "mtl", "ply", "exr", "png", "pfm"})
+    fs::create_directories(root / kind);
+
+  writeBytes(root / "obj" / "quad.obj",
+             "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+             "vn 0 0 1\nusemtl a\nf 1/1/1 2/2/1 3/3/1\nusemtl b\nf -4 -2 -1\n");
+  writeBytes(root / "obj" / "groups.obj",
+             "# comment\no thing\ng part\ns off\nv 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\n"
+             "f 1//1 2//1 3//1\nvn 0 0 1\nl 1 2\np 3\n");
+  writeBytes(root / "mtl" / "materials.mtl",
+             "newmtl a\nKa 0 0 0\nKd 0.5 0.4 0.3\nKs 0.9 0.9 0.9\nNs 100\nillum 2\n"
+             "newmtl b\nKe 10 8 6\nd 0.5\nNi 1.5\nTr 0\nmap_Kd tex.png\n");
+  for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"})
+    writeBytes(root / "ply" / (std::string(format) + ".ply"), plyQuad(format));
+
+  const Image image = gradient(4, 3);
+  writeImage((root / "exr" / "gradient.exr").string(), image);
+  writeImage((root / "pfm" / "gradient.pfm").string(), image);
+  writeImage((root / "png" / "gradient.png").string(), image);
+  writeExrLayers((root / "exr" / "layers.exr").string(), 2, 2,
+                 {{"R", {1, 2, 3, 4}}, {"G", {0, 0, 0, 0}}, {"B", {1, 1, 1, 1}},
+                  {"variance.Y", {0.1f, 0.2f, 0.3f, 0.4f}}});
+  std::printf("seeds written under %s\n", root.string().c_str());
+  return 0;
+}
