@@ -407,9 +407,26 @@ float srgb8ToLinear(unsigned char v) {
   return table[v];
 }
 
+// stb_image allocates the whole decoded image from the header's size before it inflates a
+// byte. No PNG, JPEG, TGA, BMP or HDR codec packs more than about a thousand samples into a byte
+// of file (Deflate's limit is 1032 bytes per byte), so a header asking for more than this many
+// samples per byte of file, past a small floor, is damaged: refused before stb allocates.
+constexpr uint64_t kMaxSamplesPerByte = 2048;
+constexpr uint64_t kMinSampleAllowance = uint64_t(1) << 20;
+
 Image readStb(const std::string& path, bool radianceHdr) {
   FilePtr file = openForReading(path);
   int width = 0, height = 0, channelsInFile = 0;
+  {
+    std::error_code ec;
+    const uintmax_t fileBytes = fs::file_size(path, ec);
+    if (ec) fail(path, "cannot read file size: " + ec.message());
+    if (!stbi_info_from_file(file.get(), &width, &height, &channelsInFile)) fail(path, stbReason());
+    const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 3;
+    if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(fileBytes)))
+      fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
+                     " pixels are too many for a file of " + std::to_string(fileBytes) + " bytes");
+  }
   Image image;
   const auto fill = [&](const auto* data, auto toLinear) {
     if (!data) fail(path, stbReason());

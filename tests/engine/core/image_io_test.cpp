@@ -20,6 +20,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -226,6 +227,22 @@ TEST(ImageIo, CorruptFilesThrowInsteadOfCrashing) {
   }
   writeRaw(dir + "/g2.exr", garbage);
   expectIoError([&] { readExrChannels(dir + "/g2.exr"); }, dir + "/g2.exr", "");
+}
+
+// A PNG whose header claims 10000x10000 pixels in a file of a hundred bytes is refused before
+// the decoder allocates the 300 MB such an image would take (stb_image's own limit is 1 GB).
+TEST(ImageIo, PngHeaderAskingForTooManyPixelsIsRefused) {
+  const std::string dir = freshDir("png_huge");
+  writeImage(dir + "/small.png", hdrTestImage());
+  std::ifstream in(dir + "/small.png", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 24u);
+  ASSERT_EQ(bytes.substr(12, 4), "IHDR");
+  const unsigned char size[8] = {0, 0, 0x27, 0x10, 0, 0, 0x27, 0x10};  // 10000, big-endian
+  bytes.replace(16, 8, reinterpret_cast<const char*>(size), 8);
+  writeRaw(dir + "/huge.png", bytes);
+  expectIoError([&] { readImage(dir + "/huge.png"); }, dir + "/huge.png",
+                "10000x10000 pixels are too many for a file of");
 }
 
 TEST(ImageIo, UnsupportedExtensionListsTheSupportedOnes) {
