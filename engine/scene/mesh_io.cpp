@@ -54,10 +54,12 @@ std::string readWholeFile(const std::string& path) {
   return std::move(contents).str();
 }
 
-// Normalises the mesh's normals. Zero or non-finite ones (files do have them) are
-// replaced by the normalised sum of the area-weighted geometric normals of the
-// triangles around the vertex, so shading stays smooth instead of turning NaN.
-void cleanNormals(Mesh& mesh) {
+}  // namespace
+
+// Zero or non-finite normals are replaced by the normalised sum of the area-weighted
+// geometric normals of the triangles around the vertex, so shading stays smooth instead of
+// turning NaN.
+void repairNormals(Mesh& mesh) {
   if (mesh.normals.empty()) return;
   std::vector<char> missing(mesh.vertexCount, 0);
   bool anyMissing = false;
@@ -81,6 +83,8 @@ void cleanNormals(Mesh& mesh) {
     if (missing[v]) mesh.normals[v] = length > 0.0f ? sums[v] / length : vec3(0, 0, 1);
   }
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------- PLY
 
@@ -468,7 +472,7 @@ Mesh loadPly(const std::string& path) {
   }
   if (mesh.indices.empty()) fileError(path, "no triangles");
   mesh.materialIds.assign(mesh.triangleCount(), 0);
-  cleanNormals(mesh);
+  repairNormals(mesh);
   return mesh;
 }
 
@@ -675,7 +679,7 @@ ObjData loadObj(const std::string& path) {
     }
   }
   if (mesh.indices.empty()) fileError(path, "no faces");
-  cleanNormals(mesh);
+  repairNormals(mesh);
   return result;
 }
 

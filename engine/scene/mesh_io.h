@@ -10,6 +10,10 @@
 
 namespace penumbra {
 
+// Normalises a mesh's normals; zero or non-finite ones (files do have them) become the
+// normalised sum of the area-weighted face normals around the vertex. No-op without normals.
+void repairNormals(Mesh& mesh);
+
 // Reads a PLY file: positions, optional normals (nx ny nz) and uvs (u v, s t or
 // texture_u texture_v), polygons fan-triangulated with their winding kept.
 // materialIds are all 0. Throws SceneError naming the file and the place.

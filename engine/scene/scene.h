@@ -81,6 +81,8 @@ struct Scene {
   vec3 background = vec3(0.0f);
   Camera camera;
   RenderSettings settings;
+  // Features a file has that are not rendered (glTF's, say), one line each, "file: what".
+  std::vector<std::string> warnings;
 };
 
 // A per-vertex attribute (position or normal) of a mesh at scene time t in [0,1],

@@ -1,6 +1,7 @@
 #include "scene/scene_loader.h"
 
 #include "core/image_io.h"
+#include "scene/gltf_io.h"
 #include "scene/mesh_io.h"
 #include "scene/shapes.h"
 
@@ -288,6 +289,17 @@ Motion readMotion(const Reader& r, const Json& node, const std::string& f) {
   return mo;
 }
 
+// Moves a glTF file's images and textures into the scene; returns the texture id offset.
+int appendGltfTextures(Scene& scene, GltfData& gltf) {
+  const int imageOffset = int(scene.images.size()), textureOffset = int(scene.textures.size());
+  for (Image& image : gltf.images) scene.images.push_back(std::move(image));
+  for (Texture t : gltf.textures) {
+    if (t.imageIndex >= 0) t.imageIndex += imageOffset;
+    scene.textures.push_back(t);
+  }
+  return textureOffset;
+}
+
 // Object-space geometry of one object: a built-in shape or a mesh file.
 Mesh readShape(const Reader& r, const Json& node, const std::string& f, const std::string& shape,
                Scene& scene, std::vector<Material>& objMaterials,
@@ -329,7 +341,17 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
         objMaps = std::move(obj.diffuseMaps);
         return std::move(obj.mesh);
       }
-      r.fail(f + ".file", "unsupported mesh format '" + ext + "' (expected .ply or .obj)");
+      if (ext == ".gltf" || ext == ".glb") {
+        GltfData gltf = loadGltf(path);
+        const int textureOffset = appendGltfTextures(scene, gltf);
+        for (Material& m : gltf.materials)
+          if (m.albedoTexture >= 0) m.albedoTexture += textureOffset;
+        for (const std::string& w : gltf.warnings) scene.warnings.push_back(path + ": " + w);
+        objMaterials = std::move(gltf.materials);
+        return std::move(gltf.mesh);
+      }
+      r.fail(f + ".file",
+             "unsupported mesh format '" + ext + "' (expected .ply, .obj, .gltf or .glb)");
     }
   } catch (const std::invalid_argument& e) {
     r.fail(f, e.what());
@@ -488,11 +510,31 @@ Scene sceneFromObj(const std::string& path) {
   return scene;
 }
 
-Scene loadScene(const std::string& path) {
+Scene sceneFromGltf(const std::string& path, const std::string& cameraName) {
+  GltfData gltf = loadGltf(path, cameraName);
+  Scene scene;
+  scene.sourcePath = path;
+  appendGltfTextures(scene, gltf);
+  scene.materials = std::move(gltf.materials);
+  scene.meshes.push_back(std::move(gltf.mesh));
+  for (const std::string& w : gltf.warnings) scene.warnings.push_back(path + ": " + w);
+  if (gltf.hasCamera)
+    scene.camera = gltf.camera;
+  else
+    frameCamera(scene);
+  return scene;
+}
+
+Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   const std::string ext = lowercaseExtension(path);
+  if (!options.camera.empty() && ext != ".gltf" && ext != ".glb")
+    throw SceneError(path + ": --camera picks a camera of a glTF scene; this is a '" + ext +
+                     "' file");
   if (ext == ".obj") return sceneFromObj(path);
+  if (ext == ".gltf" || ext == ".glb") return sceneFromGltf(path, options.camera);
   if (ext != ".json")
-    throw SceneError(path + ": unsupported scene format '" + ext + "' (expected .json or .obj)");
+    throw SceneError(path + ": unsupported scene format '" + ext +
+                     "' (expected .json, .gltf, .glb or .obj)");
   const std::string text = readTextFile(path);
   return parseSceneJson(text, path, fs::path(path).parent_path().string());
 }

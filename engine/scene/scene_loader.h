@@ -9,12 +9,20 @@
 
 namespace penumbra {
 
-// Loads a .json scene or a .obj file (camera framed automatically) by extension.
-Scene loadScene(const std::string& path);
+struct SceneLoadOptions {
+  std::string camera;  // glTF: the camera (node or camera name) to view from; empty = first
+};
+
+// Loads a .json scene, a .gltf / .glb scene (its first perspective camera, or the one named
+// in options; framed automatically when it has none) or a .obj file (camera framed
+// automatically) by extension.
+Scene loadScene(const std::string& path, const SceneLoadOptions& options = {});
 // Parses JSON scene text; `path` names it in messages, relative files resolve from `baseDir`.
 Scene parseSceneJson(const std::string& text, const std::string& path, const std::string& baseDir);
 // Wraps an OBJ (with its MTL) as a scene.
 Scene sceneFromObj(const std::string& path);
+// Wraps a glTF file as a scene.
+Scene sceneFromGltf(const std::string& path, const std::string& cameraName = "");
 
 // Points the camera at the scene's bounding box from the front (+z side, slightly above).
 void frameCamera(Scene& scene);

@@ -4,6 +4,7 @@
 #include "viewer/cli/commands.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -41,7 +42,8 @@ vec3 parseVec3(const std::string& flag, const std::string& text) {
 
 void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("scene", o.scenePath,
-               "Scene file: a .json scene (docs/scene-format.md) or a .obj with its .mtl")
+               "Scene file: a .json scene (docs/scene-format.md), a glTF 2.0 .gltf or .glb, or a "
+               ".obj with its .mtl")
       ->required()
       ->check(CLI::ExistingFile);
   c.add_option("--spp", o.spp, "Samples per pixel (default: the scene's render.spp)")
@@ -50,6 +52,9 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--max-depth", o.maxDepth,
                "Maximum path depth: 0 = emitters only, 1 = direct light, ...")
       ->check(CLI::Range(0, 1024));
+  c.add_option("--camera", o.camera,
+               "glTF scenes: view through the camera of this node or camera name (default: the "
+               "first perspective camera; the flags below still override it)");
   c.add_option("--eye", o.eye, "Camera position x,y,z");
   c.add_option("--look-at", o.lookAt, "Point the camera looks at, x,y,z");
   c.add_option("--up", o.up, "Camera up vector x,y,z");
@@ -66,7 +71,11 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
 }
 
 Scene loadSceneWithOptions(const SceneOptions& o) {
-  Scene scene = loadScene(o.scenePath);
+  SceneLoadOptions load;
+  load.camera = o.camera;
+  Scene scene = loadScene(o.scenePath, load);
+  for (const std::string& warning : scene.warnings)
+    std::fprintf(stderr, "warning: %s\n", warning.c_str());
   if (!o.size.empty()) {
     const auto wh = parseNumbers("--size", o.size, 2, 'x');
     if (wh[0] < 1 || wh[1] < 1 || wh[0] > 16384 || wh[1] > 16384 || wh[0] != std::floor(wh[0]) ||

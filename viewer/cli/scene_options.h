@@ -16,12 +16,14 @@ struct SceneOptions {
   std::string size;  // "WxH"
   std::optional<int> spp, maxDepth;
   std::string eye, lookAt, up, shutter;
+  std::string camera;  // glTF: which of the file's cameras
   std::optional<float> fov, lensRadius, focusDistance;
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 // Loads the scene and applies the overrides; throws CommandError/SceneError naming the flag or
-// file.
+// file. The scene's warnings (features of a glTF file that are not rendered) go to stderr,
+// one line each.
 Scene loadSceneWithOptions(const SceneOptions& options);
 
 }  // namespace penumbra

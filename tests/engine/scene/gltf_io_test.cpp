@@ -1,0 +1,326 @@
+// glTF 2.0 scenes: small files written here (buffers as data: URIs, a .glb container, a
+// relative .bin) through loadGltf and loadScene: geometry placed by the node hierarchy, the
+// material mapping, cameras, warnings for what is not rendered, and clear errors for damaged
+// files and for URIs that name a network location.
+#include "scene/gltf_io.h"
+
+#include "core/image_io.h"
+#include "scene/scene_loader.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string base64(const std::string& bytes) {
+  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
+    out += kDigits[(v >> 18) & 63];
+    out += kDigits[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kDigits[(v >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kDigits[v & 63] : '=';
+  }
+  return out;
+}
+
+template <typename T>
+void append(std::string& bytes, std::initializer_list<T> values) {
+  for (T v : values) bytes.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+// A unit quad in the xy plane (normal +z), two triangles, uvs, 16-bit indices: the buffer
+// holds positions (48 bytes), normals (48), uvs (32), indices (12).
+std::string quadBuffer() {
+  std::string b;
+  append<float>(b, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+  append<float>(b, {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1});
+  append<float>(b, {0, 1, 1, 1, 1, 0, 0, 0});
+  append<uint16_t>(b, {0, 1, 2, 0, 2, 3});
+  return b;
+}
+
+// The glTF JSON of the quad, drawn twice: a parent node (translated by (10, 0, 0)) holding a
+// child turned 90 degrees about +y and scaled by 2, and a second, untransformed instance; a
+// camera node; four materials. `bufferUri` is where the buffer lives.
+Json quadGltf(const std::string& bufferUri, size_t bufferBytes) {
+  const double s = std::sqrt(0.5);
+  Json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0, 2, 3}}}}},
+      {"nodes",
+       {{{"name", "parent"}, {"translation", {10, 0, 0}}, {"children", {1}}},
+        {{"name", "child"}, {"mesh", 0}, {"rotation", {0, s, 0, s}}, {"scale", {2, 2, 2}}},
+        {{"name", "plain"}, {"mesh", 1}},
+        {{"name", "shot"}, {"camera", 0}, {"translation", {0, 1, 5}}}}},
+      {"cameras",
+       {{{"name", "lens"},
+         {"type", "perspective"},
+         {"perspective", {{"yfov", 0.5}, {"znear", 0.1}, {"aspectRatio", 1.0}}}}}},
+      {"meshes",
+       {{{"primitives",
+          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
+            {"indices", 3},
+            {"material", 0}}}}},
+        {{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 3}, {"material", 3}}}}}}},
+      {"materials",
+       {{{"name", "paint"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}, {"metallicFactor", 0.0}}}},
+        {{"name", "gold"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {1.0, 0.8, 0.3, 1.0}}, {"metallicFactor", 1.0},
+           {"roughnessFactor", 0.3}}}},
+        {{"name", "lamp"},
+         {"emissiveFactor", {1.0, 0.5, 0.25}},
+         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}}},
+        {{"name", "glass"},
+         {"extensions",
+          {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+           {"KHR_materials_ior", {{"ior", 1.33}}}}}}}},
+      {"buffers", {{{"uri", bufferUri}, {"byteLength", bufferBytes}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+        {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 48}},
+        {{"buffer", 0}, {"byteOffset", 96}, {"byteLength", 32}},
+        {{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 12}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
+         {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+        {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+        {{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
+        {{"bufferView", 3}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+      {"extensionsUsed", {"KHR_materials_emissive_strength", "KHR_materials_transmission",
+                          "KHR_materials_ior"}}};
+  return j;
+}
+
+std::string dataUri(const std::string& bytes) {
+  return "data:application/octet-stream;base64," + base64(bytes);
+}
+
+std::string writeFile(const std::string& name, const std::string& contents) {
+  const std::string path = test::outputPath("gltf/" + name);
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << contents;
+  return path;
+}
+
+std::string writeGltf(const std::string& name, const Json& j) { return writeFile(name, j.dump()); }
+
+void expectSceneError(const std::function<void()>& load, std::initializer_list<std::string> parts) {
+  try {
+    load();
+    ADD_FAILURE() << "no SceneError";
+  } catch (const SceneError& e) {
+    const std::string message = e.what();
+    for (const std::string& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+  }
+}
+
+void expectNear(vec3 got, vec3 want) {
+  EXPECT_NEAR(got.x, want.x, 1e-5f);
+  EXPECT_NEAR(got.y, want.y, 1e-5f);
+  EXPECT_NEAR(got.z, want.z, 1e-5f);
+}
+
+TEST(Gltf, NodeHierarchyPlacesTheMeshes) {
+  const std::string buffer = quadBuffer();
+  const GltfData g = loadGltf(writeGltf("quad.gltf", quadGltf(dataUri(buffer), buffer.size())));
+  ASSERT_EQ(g.mesh.vertexCount, 8u);
+  ASSERT_EQ(g.mesh.triangleCount(), 4u);
+  // The child: scaled by 2, turned +90 degrees about y (x -> -z), then moved by (10, 0, 0).
+  expectNear(g.mesh.positions[1], vec3(10, 0, -2));
+  expectNear(g.mesh.positions[2], vec3(10, 2, -2));
+  // Its normal +z turns to +x; the second instance has no normals of its own and gets its
+  // faces' normal.
+  expectNear(g.mesh.normals[0], vec3(1, 0, 0));
+  expectNear(g.mesh.normals[4], vec3(0, 0, 1));
+  // uv (0, 1) in glTF (v down) is (0, 0) in penumbra (v up).
+  EXPECT_NEAR(g.mesh.uvs[0].y, 0.0f, 1e-6f);
+  EXPECT_NEAR(g.mesh.uvs[2].y, 1.0f, 1e-6f);
+  expectNear(g.mesh.positions[6], vec3(1, 1, 0));
+  EXPECT_EQ(g.mesh.materialIds, (std::vector<uint32_t>{0, 0, 3, 3}));
+  // Winding kept: the child's first triangle faces its normal.
+  const vec3 a = g.mesh.positions[g.mesh.indices[0]], b = g.mesh.positions[g.mesh.indices[1]],
+             c = g.mesh.positions[g.mesh.indices[2]];
+  EXPECT_GT(glm::dot(glm::cross(b - a, c - a), vec3(1, 0, 0)), 0.0f);
+}
+
+TEST(Gltf, MaterialsMapOntoOurs) {
+  const std::string buffer = quadBuffer();
+  const GltfData g = loadGltf(writeGltf("quad.gltf", quadGltf(dataUri(buffer), buffer.size())));
+  ASSERT_EQ(g.materials.size(), 4u);
+  EXPECT_EQ(g.materials[0].type, Material::Type::Diffuse);
+  expectNear(g.materials[0].albedo, vec3(0.5f, 0.25f, 1.0f));
+  EXPECT_EQ(g.materials[1].type, Material::Type::Conductor);
+  expectNear(g.materials[1].albedo, vec3(1.0f, 0.8f, 0.3f));
+  EXPECT_NEAR(g.materials[1].roughness, 0.3f, 1e-6f);
+  expectNear(g.materials[2].emission, vec3(4.0f, 2.0f, 1.0f));
+  EXPECT_EQ(g.materials[3].type, Material::Type::Dielectric);
+  EXPECT_NEAR(g.materials[3].ior, 1.33f, 1e-6f);
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
+}
+
+TEST(Gltf, BaseColourTextureIsLinearTimesTheFactor) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // A 2x1 PNG: sRGB 255 and 128 in red.
+  const std::vector<uint8_t> png = encodePng8(2, 1, 3, {255, 0, 0, 128, 0, 0});
+  j["images"] = {{{"uri", "data:image/png;base64," +
+                              base64(std::string(png.begin(), png.end()))}}};
+  j["textures"] = {{{"source", 0}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  const GltfData g = loadGltf(writeGltf("textured.gltf", j));
+  ASSERT_GE(g.materials[0].albedoTexture, 0);
+  const Texture& t = g.textures[size_t(g.materials[0].albedoTexture)];
+  ASSERT_EQ(t.kind, Texture::Kind::Image);
+  const Image& image = g.images[size_t(t.imageIndex)];
+  ASSERT_EQ(image.width, 2);
+  EXPECT_NEAR(image.pixels[0].x, 0.5f, 1e-5f);                 // 1.0 x factor 0.5
+  EXPECT_NEAR(image.pixels[1].x, 0.5f * 0.2158605f, 1e-4f);    // sRGB 128 -> 0.2159
+}
+
+TEST(Gltf, CamerasFirstByNameOrFramed) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  const std::string path = writeGltf("quad.gltf", j);
+  const Scene first = loadScene(path);
+  expectNear(first.camera.eye, vec3(0, 1, 5));
+  expectNear(first.camera.lookAt, vec3(0, 1, 4));
+  EXPECT_NEAR(first.camera.vfovDegrees, 0.5f * 180.0f / 3.14159265f, 1e-3f);
+  SceneLoadOptions byName;
+  byName.camera = "lens";  // the camera's own name works as well as its node's
+  expectNear(loadScene(path, byName).camera.eye, vec3(0, 1, 5));
+  byName.camera = "nope";
+  expectSceneError([&] { loadScene(path, byName); },
+                   {"quad.gltf", "no perspective camera named 'nope'", "there are: shot"});
+
+  j["nodes"][3].erase("camera");
+  const Scene framed = loadScene(writeGltf("no_camera.gltf", j));
+  EXPECT_GT(glm::length(framed.camera.eye - framed.camera.lookAt), 1.0f);
+}
+
+TEST(Gltf, BinaryContainerAndRelativeBuffer) {
+  const std::string buffer = quadBuffer();
+  // .glb: header, the JSON chunk (padded to 4 bytes), the BIN chunk.
+  Json j = quadGltf("", buffer.size());
+  j["buffers"][0].erase("uri");
+  std::string json = j.dump();
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  append<uint32_t>(glb, {2, uint32_t(12 + 8 + json.size() + 8 + buffer.size())});
+  append<uint32_t>(glb, {uint32_t(json.size()), 0x4E4F534Au});
+  glb += json;
+  append<uint32_t>(glb, {uint32_t(buffer.size()), 0x004E4942u});
+  glb += buffer;
+  EXPECT_EQ(loadGltf(writeFile("quad.glb", glb)).mesh.triangleCount(), 4u);
+
+  writeFile("sub/quad.bin", buffer);
+  EXPECT_EQ(loadGltf(writeGltf("sub/quad.gltf", quadGltf("quad.bin", buffer.size())))
+                .mesh.triangleCount(),
+            4u);
+}
+
+TEST(Gltf, NetworkAndAbsoluteUrisAreRefused) {
+  const std::string buffer = quadBuffer();
+  expectSceneError(
+      [&] { loadGltf(writeGltf("net.gltf", quadGltf("https://example.com/quad.bin", 140))); },
+      {"net.gltf", "buffers[0].uri", "network location"});
+  expectSceneError([&] { loadGltf(writeGltf("abs.gltf", quadGltf("/etc/quad.bin", 140))); },
+                   {"abs.gltf", "buffers[0].uri", "absolute path"});
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", "ftp://example.com/a.png"}}};
+  expectSceneError([&] { loadGltf(writeGltf("net_image.gltf", j)); },
+                   {"images[0].uri", "network location"});
+}
+
+TEST(Gltf, DamagedFilesNameTheElement) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["accessors"][0]["count"] = 40;  // runs past its 48-byte view
+  expectSceneError([&] { loadGltf(writeGltf("long.gltf", j)); },
+                   {"long.gltf", "meshes[0].primitives[0].POSITION", "past the end"});
+  j = quadGltf(dataUri(buffer), buffer.size());
+  j["nodes"][1]["children"] = {0};  // a cycle
+  expectSceneError([&] { loadGltf(writeGltf("cycle.gltf", j)); }, {"is its own ancestor"});
+  j = quadGltf(dataUri(buffer), buffer.size());
+  j["meshes"][0]["primitives"][0]["material"] = 9;
+  expectSceneError([&] { loadGltf(writeGltf("material.gltf", j)); },
+                   {"meshes[0].primitives[0].material", "material 9 does not exist"});
+  expectSceneError([&] { loadGltf(writeFile("junk.gltf", "{\"asset\": ")); }, {"junk.gltf"});
+  expectSceneError([&] { loadGltf(writeFile("junk.glb", "glTF\x02")); },
+                   {"junk.glb", "not a binary glTF file"});
+}
+
+TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][0]["normalTexture"] = {{"index", 0}};
+  j["materials"][0]["alphaMode"] = "MASK";
+  j["materials"][1]["pbrMetallicRoughness"]["metallicFactor"] = 0.7;
+  j["nodes"][2]["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
+  j["extensionsUsed"].push_back("KHR_lights_punctual");
+  j["extensions"] = {{"KHR_lights_punctual",
+                      {{"lights", {{{"type", "point"}, {"intensity", 10.0}}}}}}};
+  j["animations"] = Json::array();
+  const GltfData g = loadGltf(writeGltf("features.gltf", j));
+  std::string all;
+  for (const std::string& w : g.warnings) all += w + "\n";
+  for (const char* part : {"materials[0]: normalTexture is not rendered yet",
+                           "materials[0]: alphaMode MASK", "materials[1]: metallic 0.7",
+                           "KHR_lights_punctual: punctual lights are not rendered yet",
+                           "extension KHR_lights_punctual is not supported"})
+    EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
+}
+
+TEST(Gltf, AMissingImageFileIsAnErrorNamingIt) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["textures"] = {{{"source", 0}}};
+  j["images"] = {{{"uri", "missing.png"}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  expectSceneError([&] { loadGltf(writeGltf("missing_image.gltf", j)); },
+                   {"missing_image.gltf", "missing.png"});
+}
+
+TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
+  const std::string buffer = quadBuffer();
+  writeGltf("include/quad.gltf", quadGltf(dataUri(buffer), buffer.size()));
+  const std::string scenePath = writeFile(
+      "include/scene.json",
+      R"({"camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]},
+          "materials": {"white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+          "objects": [
+            {"shape": "mesh", "file": "quad.gltf", "transform": {"translate": [0, 5, 0]}},
+            {"shape": "mesh", "file": "quad.gltf", "material": "white"}]})");
+  const Scene scene = loadScene(scenePath);
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  // The file's own materials come along with the first; the second uses "white" throughout.
+  EXPECT_EQ(scene.materials.size(), 1u + 4u);
+  expectNear(scene.meshes[0].positions[4], vec3(0, 5, 0));
+  for (uint32_t id : scene.meshes[1].materialIds) EXPECT_EQ(scene.materials[id].name, "white");
+}
+
+}  // namespace
+}  // namespace penumbra
