@@ -159,7 +159,7 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
   const int px = int(p % s_.width), py = int(p / s_.width);
   PixelState& pixel = s_.pixel(p);
   const uint32_t raysBefore = rays_[p];
-  const int slices = film_.slicesPerPixel(), side = film_.slicesPerSide();
+  const int slices = film_.slicesPerPixel();
   uint32_t left[kMaxSlicesPerSide * kMaxSlicesPerSide] = {};
   if (slices > 0)
     for (int k = 0; k < slices; ++k) left[k] = plan ? plan[k] : 0;
