@@ -89,7 +89,9 @@ void checkUri(const std::string& path, const std::string& where, const std::stri
     fail(path, where, "URI '" + uri + "' is an absolute path; only relative paths are read");
 }
 
-void checkUris(const std::string& path, const std::string& json) {
+// Checks every buffer's and image's URI; returns the files the relative ones name.
+std::vector<std::string> checkUris(const std::string& path, const std::string& json) {
+  std::vector<std::string> files;
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(json);
@@ -101,9 +103,14 @@ void checkUris(const std::string& path, const std::string& json) {
     if (!root.contains(array) || !root[array].is_array()) continue;
     const auto& items = root[array];
     for (size_t i = 0; i < items.size(); ++i)
-      if (items[i].is_object() && items[i].contains("uri") && items[i]["uri"].is_string())
-        checkUri(path, indexed(array, i) + ".uri", items[i]["uri"].get<std::string>());
+      if (items[i].is_object() && items[i].contains("uri") && items[i]["uri"].is_string()) {
+        const std::string uri = items[i]["uri"].get<std::string>();
+        checkUri(path, indexed(array, i) + ".uri", uri);
+        if (uri.rfind("data:", 0) != 0)
+          files.push_back((fs::path(path).parent_path() / uri).lexically_normal().string());
+      }
   }
+  return files;
 }
 
 // ---- accessors ------------------------------------------------------------------------------
@@ -630,7 +637,7 @@ GltfData loadGltf(const std::string& path, const std::string& cameraName) {
   const std::string ext = fs::path(path).extension().string();
   const bool binary = ext == ".glb" || ext == ".GLB";
   const std::string bytes = readFileBytes(path);
-  checkUris(path, jsonText(path, bytes, binary));
+  const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary));
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -648,6 +655,7 @@ GltfData loadGltf(const std::string& path, const std::string& cameraName) {
   }
 
   GltfData out;
+  out.files = files;
   Converter convert(path, model, out);
   convert.materials();
   convert.nodes(cameraName);

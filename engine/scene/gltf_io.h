@@ -31,6 +31,7 @@ struct GltfData {
   bool hasCamera = false;
   Camera camera;
   std::vector<std::string> warnings;  // features present but not rendered, one line each
+  std::vector<std::string> files;     // external buffers and images read (relative URIs)
 };
 
 // Reads `path` (.gltf or .glb). `cameraName`, when not empty, picks the camera whose node or

@@ -557,11 +557,14 @@ struct CornerKeyHash {
 ObjData loadObj(const std::string& path) {
   // tinyobjloader reads a malformed number as 0 and goes on; check the text first.
   const fs::path objFolder = fs::path(path).parent_path();
+  std::vector<std::string> libraries;
   for (const std::string& library : checkObjText(readWholeFile(path), path)) {
     // Where tinyobjloader looks for it; a missing library falls back to the default material.
     const std::string mtl = (objFolder / library).string();
     std::error_code error;
-    if (fs::is_regular_file(mtl, error)) checkMtlText(readWholeFile(mtl), mtl);
+    if (!fs::is_regular_file(mtl, error)) continue;
+    checkMtlText(readWholeFile(mtl), mtl);
+    libraries.push_back(mtl);
   }
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -586,6 +589,7 @@ ObjData loadObj(const std::string& path) {
   const size_t texcoordCount = attrib.texcoords.size() / 2;
 
   ObjData result;
+  result.files = std::move(libraries);
   for (const tinyobj::material_t& source : reader.GetMaterials()) {
     const ObjMaterialDesc desc{source.name,
                                toVec3(source.diffuse),

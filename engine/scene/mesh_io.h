@@ -40,6 +40,7 @@ struct ObjData {
   Mesh mesh;                             // materialIds index `materials`
   std::vector<Material> materials;       // albedoTexture left at -1
   std::vector<std::string> diffuseMaps;  // per material: map_Kd path, "" if none
+  std::vector<std::string> files;        // the MTL libraries read
 };
 
 // Reads an OBJ (triangulated, corners de-indexed into unique position/uv/normal

@@ -83,6 +83,9 @@ struct Scene {
   RenderSettings settings;
   // Features a file has that are not rendered (glTF's, say), one line each, "file: what".
   std::vector<std::string> warnings;
+  // Every file the scene was read from: the scene file, then the meshes, MTL libraries,
+  // textures and glTF buffers and images it refers to (what the viewer watches to reload).
+  std::vector<std::string> sourceFiles;
 };
 
 // A per-vertex attribute (position or normal) of a mesh at scene time t in [0,1],

@@ -25,7 +25,9 @@ namespace fs = std::filesystem;
 // Reads typed values out of a JSON node; every error names the file and the field path.
 class Reader {
  public:
-  Reader(const std::string& file, const std::string& baseDir) : file_(file), baseDir_(baseDir) {}
+  // Every file the scene refers to is added to `sources`.
+  Reader(const std::string& file, const std::string& baseDir, std::vector<std::string>& sources)
+      : file_(file), baseDir_(baseDir), sources_(&sources) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& message) const {
     throw SceneError(file_ + ": " + (field.empty() ? "" : field + ": ") + message);
@@ -123,6 +125,7 @@ class Reader {
     const fs::path p = fs::path(name).is_absolute() ? fs::path(name) : fs::path(baseDir_) / name;
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) fail(join(field, "file"), "cannot open '" + p.string() + "'");
+    sources_->push_back(p.string());
     return p.string();
   }
 
@@ -130,6 +133,7 @@ class Reader {
 
  private:
   std::string file_, baseDir_;
+  std::vector<std::string>* sources_;
 };
 
 void readRender(const Reader& r, const Json& node, RenderSettings& s) {
@@ -337,12 +341,14 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
       if (ext == ".ply") return loadPly(path);
       if (ext == ".obj") {
         ObjData obj = loadObj(path);
+        scene.sourceFiles.insert(scene.sourceFiles.end(), obj.files.begin(), obj.files.end());
         objMaterials = std::move(obj.materials);
         objMaps = std::move(obj.diffuseMaps);
         return std::move(obj.mesh);
       }
       if (ext == ".gltf" || ext == ".glb") {
         GltfData gltf = loadGltf(path);
+        scene.sourceFiles.insert(scene.sourceFiles.end(), gltf.files.begin(), gltf.files.end());
         const int textureOffset = appendGltfTextures(scene, gltf);
         for (Material& m : gltf.materials)
           if (m.albedoTexture >= 0) m.albedoTexture += textureOffset;
@@ -367,6 +373,7 @@ uint32_t appendObjMaterials(Scene& scene, const std::vector<Material>& materials
   for (size_t i = 0; i < materials.size(); ++i) {
     Material m = materials[i];
     if (i < diffuseMaps.size() && !diffuseMaps[i].empty()) {
+      scene.sourceFiles.push_back(diffuseMaps[i]);
       try {
         scene.images.push_back(readImage(diffuseMaps[i]));
       } catch (const std::exception& e) {
@@ -466,10 +473,11 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
     const size_t cut = what.find("] ");
     throw SceneError(path + ": " + (cut == std::string::npos ? what : what.substr(cut + 2)));
   }
-  const Reader r(path, baseDir);
-  r.checkKeys(root, "", {"render", "camera", "background", "textures", "materials", "objects"});
   Scene scene;
   scene.sourcePath = path;
+  scene.sourceFiles.push_back(path);
+  const Reader r(path, baseDir, scene.sourceFiles);
+  r.checkKeys(root, "", {"render", "camera", "background", "textures", "materials", "objects"});
   if (root.contains("render")) readRender(r, root["render"], scene.settings);
   if (root.contains("camera")) readCamera(r, root["camera"], scene.camera);
   scene.background = r.color(root, "", "background", vec3(0.0f));
@@ -500,6 +508,8 @@ Scene sceneFromObj(const std::string& path) {
   ObjData obj = loadObj(path);
   Scene scene;
   scene.sourcePath = path;
+  scene.sourceFiles.push_back(path);
+  scene.sourceFiles.insert(scene.sourceFiles.end(), obj.files.begin(), obj.files.end());
   const uint32_t offset = appendObjMaterials(scene, obj.materials, obj.diffuseMaps, path);
   for (uint32_t& id : obj.mesh.materialIds) id += offset;
   obj.mesh.name = fs::path(path).stem().string();
@@ -514,6 +524,8 @@ Scene sceneFromGltf(const std::string& path, const std::string& cameraName) {
   GltfData gltf = loadGltf(path, cameraName);
   Scene scene;
   scene.sourcePath = path;
+  scene.sourceFiles.push_back(path);
+  scene.sourceFiles.insert(scene.sourceFiles.end(), gltf.files.begin(), gltf.files.end());
   appendGltfTextures(scene, gltf);
   scene.materials = std::move(gltf.materials);
   scene.meshes.push_back(std::move(gltf.mesh));

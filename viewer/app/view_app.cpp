@@ -13,6 +13,7 @@
 #include "viewer/app/gl/imgui_renderer.h"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace penumbra {
 
@@ -44,7 +45,79 @@ ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
   if (!options_.scene) throw std::invalid_argument("ViewerApp: no scene");
   view_.camera = options_.scene->scene.camera;
   session_ = std::make_unique<RenderSession>(options_.threads, options_.background);
+  watchSceneFiles();
   restart();
+}
+
+void ViewerApp::watchSceneFiles() {
+  watched_ = options_.loadScene && !options_.scenePath.empty() ? options_.scene->scene.sourceFiles
+                                                                : std::vector<std::string>{};
+  stamps_ = stampFiles();
+  lastFileCheck_ = Clock::now();
+}
+
+std::vector<ViewerApp::FileStamp> ViewerApp::stampFiles() const {
+  std::vector<FileStamp> stamps;
+  for (const std::string& file : watched_) {
+    std::error_code ec;
+    const auto time = std::filesystem::last_write_time(file, ec);
+    const auto size = ec ? std::uintmax_t(0) : std::filesystem::file_size(file, ec);
+    stamps.push_back(ec ? FileStamp{-1, -1}
+                        : FileStamp{(long long)time.time_since_epoch().count(), (long long)size});
+  }
+  return stamps;
+}
+
+bool ViewerApp::checkSceneFiles() {
+  lastFileCheck_ = Clock::now();
+  if (watched_.empty()) return false;
+  std::vector<FileStamp> now = stampFiles();
+  if (now == stamps_) return false;
+  stamps_ = std::move(now);  // a file that fails stays failed until it changes again
+  std::shared_ptr<const PreparedScene> prepared;
+  try {
+    prepared = prepareScene(options_.loadScene(options_.scenePath));
+  } catch (const std::exception& e) {
+    message_ = std::string("reload failed, still showing the last good scene: ") + e.what();
+    return false;
+  }
+  const Camera oldFileCamera = options_.scene->scene.camera;
+  const Camera& newFileCamera = prepared->scene.camera;
+  const bool cameraChanged =
+      oldFileCamera.eye != newFileCamera.eye || oldFileCamera.lookAt != newFileCamera.lookAt ||
+      oldFileCamera.up != newFileCamera.up || oldFileCamera.vfovDegrees != newFileCamera.vfovDegrees ||
+      oldFileCamera.lensRadius != newFileCamera.lensRadius ||
+      oldFileCamera.focusDistance != newFileCamera.focusDistance ||
+      oldFileCamera.shutterOpen != newFileCamera.shutterOpen ||
+      oldFileCamera.shutterClose != newFileCamera.shutterClose;
+  options_.scene = std::move(prepared);
+  if (cameraChanged) view_.camera = options_.scene->scene.camera;
+  watchSceneFiles();  // the new scene may refer to other files
+  message_ = "reloaded " + options_.scene->scene.sourcePath;
+  restart();
+  return true;
+}
+
+bool ViewerApp::openScene(const std::string& path) {
+  if (!options_.loadScene) {
+    message_ = "cannot open scenes here";
+    return false;
+  }
+  std::shared_ptr<const PreparedScene> prepared;
+  try {
+    prepared = prepareScene(options_.loadScene(path));
+  } catch (const std::exception& e) {
+    message_ = std::string("cannot open it, still showing the last scene: ") + e.what();
+    return false;
+  }
+  options_.scene = std::move(prepared);
+  options_.scenePath = path;
+  view_.camera = options_.scene->scene.camera;
+  watchSceneFiles();
+  message_ = "opened " + path;
+  restart();
+  fitView();
+  return true;
 }
 
 ViewerApp::~ViewerApp() {
@@ -99,6 +172,8 @@ void ViewerApp::setCamera(const Camera& camera) {
 
 bool ViewerApp::update() {
   bool changed = false;
+  if (!watched_.empty() && secondsBetween(lastFileCheck_, Clock::now()) >= 0.5)
+    changed = checkSceneFiles();
   const uint64_t version = session_->version();
   uint64_t generation = 0;
   std::shared_ptr<const Snapshot> latest;

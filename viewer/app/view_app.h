@@ -48,6 +48,16 @@ class ViewerApp {
   // Moves the camera for held fly keys (WASD, Q/E) over dt seconds; restarts if it moved.
   void fly(double dt);
 
+  // Live reload: when a file the scene was read from has changed since the last check (its
+  // time or size), reads the scene again (ViewOptions::loadScene) and restarts; the camera
+  // stays unless the file's own camera changed. A file that fails to load leaves the last
+  // good scene rendering and its error in the panel's message. Returns true when it
+  // reloaded. update() calls it at most twice a second.
+  bool checkSceneFiles();
+  // Opens another scene file (dropped on the window, or typed in the panel) with its own
+  // camera; on failure the current scene stays and the error is the message. True if opened.
+  bool openScene(const std::string& path);
+
   // Control.
   void restart();  // with the current camera and parameters
   void setOverlay(MapId overlay);
@@ -83,6 +93,7 @@ class ViewerApp {
   void recordFrame(double seconds) { frameStats_.add(seconds); }
   void setRecordFrameTimes(bool own) { recordFrameTimes_ = own; }
   const std::string& lastMessage() const { return message_; }
+  const ViewState& viewState() const { return view_; }  // camera, zoom, inspected pixel
 
  private:
   void setCamera(const Camera& camera);
@@ -92,8 +103,16 @@ class ViewerApp {
   const Image& shownImage() const;  // raw or reconstructed; needs a snapshot
   void drawUi(int width, int height, double deltaSeconds);  // the ImGui windows
 
+  // Modification time and size of each watched file, (-1, -1) when missing.
+  using FileStamp = std::pair<long long, long long>;
+  std::vector<FileStamp> stampFiles() const;
+  void watchSceneFiles();
+
   ViewOptions options_;
   std::unique_ptr<RenderSession> session_;
+  std::vector<std::string> watched_;
+  std::vector<FileStamp> stamps_;
+  std::chrono::steady_clock::time_point lastFileCheck_;
   std::string configError_;  // why the panel's parameters cannot start
 
   // What is shown.

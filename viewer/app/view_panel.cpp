@@ -286,6 +286,14 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
       msePlot(h);
     }
   }
+  if (ImGui::CollapsingHeader("Scene")) {
+    // Edits to the scene's files reload by themselves; another file opens here or by dropping
+    // it on the window.
+    ImGui::TextWrapped("%s", o.scenePath.empty() ? "(no file)" : o.scenePath.c_str());
+    ImGui::InputText("file", v.openField, sizeof v.openField);
+    if (ImGui::Button("open scene (.json/.gltf/.glb/.obj)") && v.openField[0])
+      actions.openScene(v.openField);
+  }
   if (ImGui::CollapsingHeader("Save")) {
     ImGui::InputText("image", v.savePath, sizeof v.savePath);
     if (ImGui::Button("save image (.exr/.png)"))

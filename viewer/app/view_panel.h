@@ -36,6 +36,7 @@ struct PanelActions {
   std::function<std::string(const std::string&)> saveImage;  // returns a message
   std::function<void(const std::string&)> requestScreenshot;
   std::function<void(int, int)> inspectPixel;  // (-1, -1): none
+  std::function<void(const std::string&)> openScene;  // the message says how it went
 };
 
 void drawPanel(const PanelState& state, const PanelActions& actions);

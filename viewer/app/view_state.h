@@ -10,6 +10,7 @@
 #include "trace/integrator.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,11 @@ namespace penumbra {
 
 struct ViewOptions {
   std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
+  // Reads a scene file as the command loaded the first one (its flags applied). When set, the
+  // viewer watches scene->scene.sourceFiles and reloads scenePath on a change, and can open
+  // another scene (dropped on the window, or typed in the panel).
+  std::function<Scene(const std::string& path)> loadScene;
+  std::string scenePath;
   MethodKind method = MethodKind::Bp;
   // Every method's configuration, in MethodKind's order: what the panel edits, kept when
   // the panel switches to another method and back.
@@ -62,6 +68,7 @@ struct ViewState {
   bool showPanel = true, showInspector = true, showHelp = false;
   char savePath[512] = "penumbra.exr";
   char screenshotField[512] = "screenshot.png";
+  char openField[512] = "";  // the panel's scene file field
 
   // The image position under framebuffer position (x, y).
   void toImage(double x, double y, float& imageX, float& imageY) const {

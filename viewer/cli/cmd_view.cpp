@@ -65,6 +65,12 @@ ViewOptions makeOptions(const ViewFlags& f) {
   ViewOptions o;
   Scene scene = loadSceneWithOptions(f.scene);
   o.scene = prepareScene(std::move(scene));
+  o.scenePath = f.scene.scenePath;
+  o.loadScene = [flags = f.scene](const std::string& path) {
+    SceneOptions withPath = flags;
+    withPath.scenePath = path;
+    return loadSceneWithOptions(withPath);
+  };
   o.shape = RunShape::progressive(f.roundSpp, f.seed, f.scene.spp ? *f.scene.spp : 0);
   o.method = f.method.kind();
   // Every method gets the flags given, so that the panel's switch keeps them.
@@ -252,6 +258,13 @@ void installCallbacks(GLFWwindow* window) {
     Window* self = windowOf(w);
     const double s = self->scaleX();
     self->mouseMove(x * s, y * s);
+  });
+  // A scene file dropped on the window opens (the first, when several are dropped).
+  glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+    if (count < 1) return;
+    Window* self = windowOf(w);
+    self->touched();
+    self->app->openScene(paths[0]);
   });
   glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
     if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) return;

@@ -1,0 +1,138 @@
+// Live reload: the viewer watches every file its scene was read from (the scene, and the
+// meshes, MTL libraries and textures it names), reloads on a change and restarts, keeps the
+// user's camera unless the file's camera changed, and keeps the last good scene, with the
+// error in its message, when the changed file does not load. No GL is needed.
+#include "viewer/app/view_app.h"
+
+#include "scene/scene_loader.h"
+#include "tests/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string folder() {
+  const std::string dir = test::outputPath("viewer/live_reload");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Writes `text` and moves the file's time a second on from `bump` steps ago, so that the
+// change shows even on file systems whose times are coarse.
+void write(const std::string& path, const std::string& text, int bump) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+  fs::last_write_time(path, fs::file_time_type::clock::now() + std::chrono::seconds(bump));
+}
+
+std::string sceneText(const std::string& albedo, const std::string& eye) {
+  return R"({"render": {"width": 16, "height": 16, "spp": 1},
+             "camera": {"eye": )" +
+         eye + R"(, "look_at": [0, 0, 0]},
+             "materials": {"m": {"type": "diffuse", "albedo": )" +
+         albedo + R"(}},
+             "objects": [{"shape": "mesh", "file": "tri.obj", "material": "m"}]})";
+}
+
+ViewOptions optionsFor(const std::string& path) {
+  ViewOptions o;
+  o.scene = prepareScene(loadScene(path));
+  o.scenePath = path;
+  o.loadScene = [](const std::string& file) { return loadScene(file); };
+  o.method = MethodKind::Ld;
+  o.threads = 1;
+  o.preview = false;
+  o.rounds = 1;
+  return o;
+}
+
+TEST(LiveReload, ReloadsOnAChangeOfTheSceneOrAFileItNames) {
+  const std::string dir = folder();
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
+  const std::string path = dir + "/scene.json";
+  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  ViewerApp app(optionsFor(path));
+  EXPECT_EQ(app.options().scene->scene.sourceFiles.size(), 2u);
+  const int restarts = app.restarts();
+  EXPECT_FALSE(app.checkSceneFiles()) << "nothing changed yet";
+
+  write(path, sceneText("[0.25, 0.5, 0.75]", "[0, 0, 3]"), 2);
+  EXPECT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.restarts(), restarts + 1);
+  EXPECT_EQ(app.options().scene->scene.materials[0].albedo, vec3(0.25f, 0.5f, 0.75f));
+  EXPECT_NE(app.lastMessage().find("reloaded"), std::string::npos) << app.lastMessage();
+
+  // A mesh the scene names counts too.
+  write(dir + "/tri.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n", 4);
+  EXPECT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.options().scene->scene.meshes[0].positions[1], vec3(2, 0, 0));
+}
+
+TEST(LiveReload, ABrokenFileKeepsTheLastGoodSceneAndSaysWhy) {
+  const std::string dir = folder();
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
+  const std::string path = dir + "/scene.json";
+  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  ViewerApp app(optionsFor(path));
+  const auto before = app.options().scene;
+
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", 2);
+  EXPECT_FALSE(app.checkSceneFiles());
+  EXPECT_EQ(app.options().scene, before) << "the last good scene must stay";
+  EXPECT_NE(app.lastMessage().find("reload failed"), std::string::npos) << app.lastMessage();
+  EXPECT_NE(app.lastMessage().find("tri.obj:2:"), std::string::npos) << app.lastMessage();
+  EXPECT_FALSE(app.checkSceneFiles()) << "a failed file is not retried until it changes";
+
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 4);
+  EXPECT_TRUE(app.checkSceneFiles()) << "mended: loads again";
+  EXPECT_NE(app.options().scene, before);
+}
+
+TEST(LiveReload, TheCameraIsKeptUnlessTheFilesCameraChanged) {
+  const std::string dir = folder();
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
+  const std::string path = dir + "/scene.json";
+  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  ViewerApp app(optionsFor(path));
+  // The user flies the camera elsewhere (W, held for half a second).
+  app.keyEvent(87 /* W */, true, 0);
+  app.fly(0.5);
+  app.keyEvent(87, false, 0);
+  const Camera moved = app.viewState().camera;
+  ASSERT_NE(moved.eye, vec3(0, 0, 3)) << "the fly key did not move the camera";
+
+  write(path, sceneText("[0.3, 0.3, 0.3]", "[0, 0, 3]"), 2);  // materials only
+  ASSERT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.viewState().camera.eye, moved.eye);
+
+  write(path, sceneText("[0.3, 0.3, 0.3]", "[1, 2, 3]"), 4);  // the file's camera moved
+  ASSERT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.viewState().camera.eye, vec3(1, 2, 3));
+}
+
+TEST(LiveReload, OpeningAnotherSceneTakesItsCameraAndWatchesItsFiles) {
+  const std::string dir = folder();
+  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
+  write(dir + "/a.json", sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  write(dir + "/b.json", sceneText("[0.1, 0.2, 0.3]", "[3, 0, 0]"), 0);
+  ViewerApp app(optionsFor(dir + "/a.json"));
+  EXPECT_FALSE(app.openScene(dir + "/missing.json"));
+  EXPECT_NE(app.lastMessage().find("missing.json"), std::string::npos) << app.lastMessage();
+  ASSERT_TRUE(app.openScene(dir + "/b.json"));
+  EXPECT_EQ(app.viewState().camera.eye, vec3(3, 0, 0));
+  EXPECT_EQ(app.options().scenePath, dir + "/b.json");
+  write(dir + "/b.json", sceneText("[0.9, 0.9, 0.9]", "[3, 0, 0]"), 2);
+  EXPECT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.options().scene->scene.materials[0].albedo, vec3(0.9f));
+}
+
+}  // namespace
+}  // namespace penumbra
