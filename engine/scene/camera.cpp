@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace penumbra {
 
@@ -23,8 +24,23 @@ CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
     throw std::invalid_argument("camera up vector is parallel to the view direction");
   f.right = glm::normalize(right);
   f.upAxis = glm::cross(f.right, f.forward);
+  f.fullWidth = width;
+  f.fullHeight = height;
+  if (camera.fullWidth > 0 || camera.fullHeight > 0) {
+    if (camera.fullWidth <= 0 || camera.fullHeight <= 0 || camera.regionX < 0 ||
+        camera.regionY < 0 || camera.regionX > camera.fullWidth - width ||
+        camera.regionY > camera.fullHeight - height)
+      throw std::invalid_argument(
+          "region " + std::to_string(camera.regionX) + "," + std::to_string(camera.regionY) + "," +
+          std::to_string(width) + "," + std::to_string(height) + " does not fit the " +
+          std::to_string(camera.fullWidth) + "x" + std::to_string(camera.fullHeight) + " image");
+    f.offsetX = camera.regionX;
+    f.offsetY = camera.regionY;
+    f.fullWidth = camera.fullWidth;
+    f.fullHeight = camera.fullHeight;
+  }
   f.halfHeight = std::tan(0.5f * camera.vfovDegrees * 3.14159265358979f / 180.0f);
-  f.halfWidth = f.halfHeight * float(width) / float(height);
+  f.halfWidth = f.halfHeight * float(f.fullWidth) / float(f.fullHeight);
   f.lensRadius = camera.lensRadius;
   f.focusDistance = camera.focusDistance > 0.0f ? camera.focusDistance : viewLength;
   f.shutterOpen = camera.shutterOpen;
@@ -51,8 +67,8 @@ glm::vec2 sampleUnitDisk(float u, float v) {
 
 Ray generateRay(const CameraFrame& f, const CameraSample& s) {
   // Point on the film plane at distance 1 along forward.
-  const float ndcX = 2.0f * s.imageX / float(f.width) - 1.0f;
-  const float ndcY = 1.0f - 2.0f * s.imageY / float(f.height);
+  const float ndcX = 2.0f * (s.imageX + float(f.offsetX)) / float(f.fullWidth) - 1.0f;
+  const float ndcY = 1.0f - 2.0f * (s.imageY + float(f.offsetY)) / float(f.fullHeight);
   const vec3 dir = f.forward + ndcX * f.halfWidth * f.right + ndcY * f.halfHeight * f.upAxis;
   Ray ray;
   ray.time = f.shutterOpen + s.time * (f.shutterClose - f.shutterOpen);

@@ -19,6 +19,9 @@ struct Camera {
   float focusDistance = 0.0f;  // <= 0: distance from eye to lookAt
   float shutterOpen = 0.0f;    // scene time in [0,1] at which the shutter opens
   float shutterClose = 1.0f;
+  // A render region: the image is the window [regionX, regionX + width) x [regionY, ...) of
+  // a fullWidth x fullHeight image of this camera. fullWidth 0 = the whole image.
+  int regionX = 0, regionY = 0, fullWidth = 0, fullHeight = 0;
 };
 
 // The 5D point every sampler produces and the integrator consumes.
@@ -40,10 +43,14 @@ struct CameraFrame {
   float halfHeight = 0, halfWidth = 0;  // film extent on the plane at distance 1
   float lensRadius = 0, focusDistance = 1;
   float shutterOpen = 0, shutterClose = 1;
-  int width = 1, height = 1;
+  int width = 1, height = 1;           // the image rendered (the region, with one)
+  int offsetX = 0, offsetY = 0;        // of the region in the full image
+  int fullWidth = 1, fullHeight = 1;   // the full image
 };
 
-// Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view).
+// Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view) or
+// a region that does not fit its full image (a width x height region of it at regionX,
+// regionY).
 CameraFrame makeCameraFrame(const Camera& camera, int width, int height);
 Ray generateRay(const CameraFrame& frame, const CameraSample& sample);
 

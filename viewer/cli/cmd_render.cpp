@@ -28,7 +28,7 @@ namespace {
 struct RenderFlags {
   SceneOptions scene;
   MethodOptions method;
-  std::string output, statsPath, variancePath, rawPath, aovDir;
+  std::string output, statsPath, variancePath, rawPath, aovDir, region;
   uint64_t seed = 0;
   int threads = 0;
   float exposure = 0;
@@ -304,9 +304,31 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
   warnNonFinite(snap->nonFiniteSamples);
 }
 
+// --region x,y,w,h: only that window of the full image is rendered, and written, as a w x h
+// image (the camera's view is the full image's; every sample lands inside the window).
+void applyRegion(const std::string& text, Scene& scene) {
+  int x = 0, y = 0, w = 0, h = 0;
+  char c1 = 0, c2 = 0, c3 = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c%d%c%d%c", &x, &c1, &y, &c2, &w, &c3, &h, &extra) != 7 ||
+      c1 != ',' || c2 != ',' || c3 != ',')
+    throw CommandError("--region: expected x,y,w,h in pixels, got '" + text + "'");
+  const int fullW = scene.settings.width, fullH = scene.settings.height;
+  if (w < 1 || h < 1 || x < 0 || y < 0 || x > fullW - w || y > fullH - h)
+    throw CommandError("--region: " + text + " does not fit the " + std::to_string(fullW) + "x" +
+                       std::to_string(fullH) + " image (x,y >= 0, w,h >= 1, x+w <= width, "
+                       "y+h <= height)");
+  scene.camera.regionX = x;
+  scene.camera.regionY = y;
+  scene.camera.fullWidth = fullW;
+  scene.camera.fullHeight = fullH;
+  scene.settings.width = w;
+  scene.settings.height = h;
+}
+
 void run(const RenderFlags& flags) {
   prepareOutputs(flags);
   Scene scene = loadSceneWithOptions(flags.scene);
+  if (!flags.region.empty()) applyRegion(flags.region, scene);
   auto prepared = prepareScene(std::move(scene));
   const int threads =
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -342,6 +364,9 @@ void registerRenderCommand(CLI::App& app) {
   c->add_option("-o,--output", flags->output,
                 "Output image: .exr or .pfm (linear float) or .png (sRGB, 8 bit)")
       ->required();
+  c->add_option("--region", flags->region,
+                "Render only the window x,y,w,h of the image (pixels, top left first) and write "
+                "it as a w x h image");
   c->add_option("--seed", flags->seed,
                 "Random seed; the image is the same for a seed whatever the thread count");
   c->add_option("--time-limit", flags->timeLimit,

@@ -93,3 +93,45 @@ TEST(Camera, DegenerateCamerasAreRejected) {
 
 }  // namespace
 }  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// A render region is a window of the full image: its pixel (x, y) sees what the full image's
+// pixel (x + regionX, y + regionY) sees, through a lens too; a region that does not fit is
+// refused.
+TEST(Camera, RegionRaysAreTheFullImagesRaysOffset) {
+  Camera c;
+  c.eye = vec3(0.3f, 1.0f, 4.0f);
+  c.lookAt = vec3(0.0f, 0.5f, 0.0f);
+  c.vfovDegrees = 35.0f;
+  c.lensRadius = 0.05f;
+  const CameraFrame full = makeCameraFrame(c, 200, 100);
+  Camera r = c;
+  r.regionX = 120;
+  r.regionY = 30;
+  r.fullWidth = 200;
+  r.fullHeight = 100;
+  const CameraFrame region = makeCameraFrame(r, 50, 40);
+  EXPECT_EQ(region.width, 50);
+  for (const auto& [x, y] : {std::pair{0.5f, 0.5f}, std::pair{49.9f, 39.1f}, std::pair{12.3f, 7.7f}}) {
+    CameraSample s;
+    s.imageX = x;
+    s.imageY = y;
+    s.lensU = 0.3f;
+    s.lensV = 0.8f;
+    const Ray a = generateRay(region, s);
+    s.imageX += 120.0f;
+    s.imageY += 30.0f;
+    const Ray b = generateRay(full, s);
+    EXPECT_LT(glm::length(a.origin - b.origin), 1e-5f);
+    EXPECT_LT(glm::length(a.direction - b.direction), 1e-5f);
+  }
+  r.regionX = 160;  // 160 + 50 > 200
+  EXPECT_THROW(makeCameraFrame(r, 50, 40), std::invalid_argument);
+  r.regionX = -1;
+  EXPECT_THROW(makeCameraFrame(r, 50, 40), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra
