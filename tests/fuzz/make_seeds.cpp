@@ -56,6 +56,31 @@ std::string plyQuad(const std::string& format) {
   return header + body;
 }
 
+// A red emissive triangle seen by a camera: as .gltf (buffer in a data: URI) and as .glb.
+const char* const kTriangleGltf = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+const char* const kTriangleGlbJson = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+
+std::string triangleGlb() {
+  std::string bin;
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint16_t indices[4] = {0, 1, 2, 0};  // the last is padding to 4 bytes
+  bin.append(reinterpret_cast<const char*>(positions), sizeof positions);
+  bin.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  std::string json = kTriangleGlbJson;
+  while (json.size() % 4) json += ' ';
+  std::string glb = "glTF";
+  auto put = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  put(2);
+  put(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+  put(uint32_t(json.size()));
+  put(0x4E4F534Au);  // "JSON"
+  glb += json;
+  put(uint32_t(bin.size()));
+  put(0x004E4942u);  // "BIN"
+  glb += bin;
+  return glb;
+}
+
 Image gradient(int w, int h) {
   Image image(w, h);
   for (int y = 0; y < h; ++y)
@@ -71,7 +96,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path root = argv[1];
-  for (const char* kind : {"obj", "mtl", "ply", "exr", "png", "pfm"})
+  for (const char* kind : {"obj", "mtl", "ply", "gltf", "exr", "png", "pfm"})
     fs::create_directories(root / kind);
 
   writeBytes(root / "obj" / "quad.obj",
@@ -85,6 +110,9 @@ int main(int argc, char** argv) {
              "newmtl b\nKe 10 8 6\nd 0.5\nNi 1.5\nTr 0\nmap_Kd tex.png\n");
   for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"})
     writeBytes(root / "ply" / (std::string(format) + ".ply"), plyQuad(format));
+
+  writeBytes(root / "gltf" / "triangle.gltf", kTriangleGltf);
+  writeBytes(root / "gltf" / "triangle.glb", triangleGlb());
 
   const Image image = gradient(4, 3);
   writeImage((root / "exr" / "gradient.exr").string(), image);
