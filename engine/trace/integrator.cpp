@@ -78,6 +78,24 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
   return prepared;
 }
 
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera,
+                                           int regionX, int regionY, int regionW, int regionH) {
+  Camera cropped = camera;
+  cropped.regionX = regionX;
+  cropped.regionY = regionY;
+  cropped.fullWidth = base.scene.settings.width;
+  cropped.fullHeight = base.scene.settings.height;
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = base.scene;
+  prepared->scene.camera = cropped;
+  prepared->scene.settings.width = regionW;
+  prepared->scene.settings.height = regionH;
+  setCamera(*prepared);
+  prepared->accel = base.accel;
+  prepared->lights = base.lights;
+  return prepared;
+}
+
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];

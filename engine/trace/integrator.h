@@ -31,6 +31,11 @@ std::unique_ptr<PreparedScene> prepareScene(Scene scene);
 // rebuild, so a viewer can restart on a camera move at once). Throws SceneError on an
 // unusable camera.
 std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera);
+// The same view rendering only a window of the image: its settings' size becomes the window's
+// (regionW x regionH) and the camera sees the window at (regionX, regionY) of the full image.
+// Throws SceneError when the window does not fit the base scene's image.
+std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera,
+                                           int regionX, int regionY, int regionW, int regionH);
 
 struct PathCounters {
   uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays

@@ -46,6 +46,7 @@ ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
   view_.camera = options_.scene->scene.camera;
   session_ = std::make_unique<RenderSession>(options_.threads, options_.background);
   watchSceneFiles();
+  view_.region = options_.region;
   restart();
 }
 
@@ -128,7 +129,9 @@ ViewerApp::~ViewerApp() {
 void ViewerApp::restart() {
   std::shared_ptr<const PreparedScene> view;
   try {
-    view = prepareView(*options_.scene, view_.camera);
+    const RenderRegion& r = view_.region;
+    view = r.active() ? prepareView(*options_.scene, view_.camera, r.x, r.y, r.width, r.height)
+                      : prepareView(*options_.scene, view_.camera);
   } catch (const std::exception& e) {
     message_ = e.what();
     return;
@@ -144,7 +147,7 @@ void ViewerApp::restart() {
   restartTime_ = Clock::now();
   generation_ =
       session_->restart([view, spec] { return makeMethod(*view, spec); }, options_.rounds);
-  if (view_.inspectX >= 0) session_->inspect(view_.inspectX, view_.inspectY);
+  if (view_.inspectX >= 0) inspectInSession(view_.inspectX, view_.inspectY);
   ++restarts_;
   firstPreviewSeconds_ = -1;
   mseHistory_.clear();
@@ -158,7 +161,7 @@ void ViewerApp::restart() {
     preview->height = view->scene.settings.height;
     preview->raw = renderPreview(*view, options_.shape.seed, previewBlock(preview->width));
     preview->reconstructed = preview->raw;
-    snapshot_ = std::move(preview);
+    snapshot_ = view_.region.active() ? placeInRegion(std::move(preview)) : std::move(preview);
     overlayStale_ = texturesStale_ = true;
     firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
     firstPictureTimes_.push_back(firstPreviewSeconds_);
@@ -181,13 +184,15 @@ bool ViewerApp::update() {
   // A snapshot of the method before the last restart is an old view: not shown.
   if (version != seenVersion_ && generation == generation_) {
     seenVersion_ = version;
-    snapshot_ = std::move(latest);
+    snapshot_ = latest && view_.region.active() ? placeInRegion(std::move(latest)) : std::move(latest);
     // The first round after a restart, when there was no preview.
     if (snapshot_ && firstPreviewSeconds_ < 0) {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
       firstPictureTimes_.push_back(firstPreviewSeconds_);
     }
-    if (snapshot_ && options_.reference && snapshot_->source != SnapshotSource::Preview) {
+    // (The reference's error is of the whole image: not measured while a region renders.)
+    if (snapshot_ && options_.reference && snapshot_->source != SnapshotSource::Preview &&
+        !view_.region.active()) {
       const Image& shown = shownImage();
       if (shown.width == options_.reference->width && shown.height == options_.reference->height) {
         const double spp = double(snapshot_->keptSamples) /
@@ -239,7 +244,81 @@ void ViewerApp::inspectPixel(int x, int y) {
   }
   view_.inspectX = x;
   view_.inspectY = y;
-  session_->inspect(x, y);
+  inspectInSession(x, y);
+}
+
+void ViewerApp::inspectInSession(int x, int y) {
+  const RenderRegion& r = view_.region;
+  if (!r.active()) {
+    session_->inspect(x, y);
+  } else if (r.contains(x, y)) {
+    session_->inspect(x - r.x, y - r.y);
+  } else {
+    session_->inspect(-1, -1);
+    message_ = "the inspected pixel is outside the render region";
+  }
+}
+
+void ViewerApp::setRegion(RenderRegion region) {
+  const int w = options_.scene->scene.settings.width, h = options_.scene->scene.settings.height;
+  const int x0 = std::clamp(region.x, 0, w), y0 = std::clamp(region.y, 0, h);
+  const int x1 = std::clamp(region.x + std::max(region.width, 0), 0, w);
+  const int y1 = std::clamp(region.y + std::max(region.height, 0), 0, h);
+  RenderRegion clamped{x0, y0, x1 - x0, y1 - y0};
+  if (!clamped.active() || (clamped.width == w && clamped.height == h)) clamped = RenderRegion{};
+  if (clamped == view_.region) return;
+  // What is shown now stays, dimmed, around the region.
+  if (snapshot_) {
+    const Image& shown = shownImage();
+    if (shown.width == w && shown.height == h) backdrop_ = shown;
+  }
+  view_.region = clamped;
+  view_.regionField[0] = clamped.x;
+  view_.regionField[1] = clamped.y;
+  view_.regionField[2] = clamped.width;
+  view_.regionField[3] = clamped.height;
+  message_ = clamped.active() ? "render region " + std::to_string(clamped.x) + "," +
+                                    std::to_string(clamped.y) + "," +
+                                    std::to_string(clamped.width) + "," +
+                                    std::to_string(clamped.height)
+                              : "render region cleared";
+  restart();
+}
+
+std::shared_ptr<const Snapshot> ViewerApp::placeInRegion(
+    std::shared_ptr<const Snapshot> snapshot) const {
+  const RenderRegion& r = view_.region;
+  const int w = options_.scene->scene.settings.width, h = options_.scene->scene.settings.height;
+  if (!snapshot || snapshot->width != r.width || snapshot->height != r.height) return snapshot;
+  constexpr float kDim = 0.35f;
+  auto full = std::make_shared<Snapshot>(*snapshot);
+  full->width = w;
+  full->height = h;
+  Image around(w, h);
+  if (backdrop_.width == w && backdrop_.height == h)
+    for (size_t p = 0; p < around.pixels.size(); ++p) around.pixels[p] = kDim * backdrop_.pixels[p];
+  const auto place = [&](const Image& inside) {
+    Image out = around;
+    for (int y = 0; y < r.height; ++y)
+      for (int x = 0; x < r.width; ++x)
+        out.pixels[size_t(y + r.y) * size_t(w) + size_t(x + r.x)] =
+            inside.pixels[size_t(y) * size_t(r.width) + size_t(x)];
+    return out;
+  };
+  full->raw = place(snapshot->raw);
+  full->reconstructed = place(snapshot->reconstructed);
+  // The maps cover the region only: zero outside.
+  for (SnapshotMap& map : full->maps) {
+    const size_t channels = map.channels();
+    std::vector<float> values(size_t(w) * size_t(h) * channels, 0.0f);
+    for (int y = 0; y < r.height; ++y)
+      for (int x = 0; x < r.width; ++x)
+        for (size_t c = 0; c < channels; ++c)
+          values[(size_t(y + r.y) * size_t(w) + size_t(x + r.x)) * channels + c] =
+              map.values[(size_t(y) * size_t(r.width) + size_t(x)) * channels + c];
+    map.values = std::move(values);
+  }
+  return full;
 }
 
 }  // namespace penumbra

@@ -66,6 +66,9 @@ class ViewerApp {
   // keeps the current centre.
   void setView(float zoom, float x, float y);
   void inspectPixel(int x, int y);
+  // Renders only `region` (clamped to the image; an empty one renders everything) and
+  // restarts; the picture outside keeps the last image, dimmed.
+  void setRegion(RenderRegion region);
   bool quitRequested() const { return view_.quit; }
   // Writes the shown image (linear .exr/.pfm or .png with the exposure); returns a message.
   std::string saveImage(const std::string& path) const;
@@ -107,10 +110,14 @@ class ViewerApp {
   using FileStamp = std::pair<long long, long long>;
   std::vector<FileStamp> stampFiles() const;
   void watchSceneFiles();
+  // A snapshot of the region's view placed in the full image over the dimmed backdrop.
+  std::shared_ptr<const Snapshot> placeInRegion(std::shared_ptr<const Snapshot> snapshot) const;
+  void inspectInSession(int x, int y);  // image pixel -> the running view's pixel
 
   ViewOptions options_;
   std::unique_ptr<RenderSession> session_;
   std::vector<std::string> watched_;
+  Image backdrop_;  // the full picture when the region was set (shown dimmed outside it)
   std::vector<FileStamp> stamps_;
   std::chrono::steady_clock::time_point lastFileCheck_;
   std::string configError_;  // why the panel's parameters cannot start

@@ -133,6 +133,11 @@ void ViewerApp::mouseButton(int button, bool down, double x, double y, int mods)
     input_.lastY = y;
     view_.cursorX = x;
     view_.cursorY = y;
+    // Ctrl + left drag draws a render region (a ctrl + click clears it).
+    if (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_CONTROL)) {
+      input_.dragging[button] = false;
+      input_.regionDrag = true;
+    }
     // Shift + left pans the image, like the middle button.
     if (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)) {
       input_.dragging[button] = false;
@@ -140,6 +145,17 @@ void ViewerApp::mouseButton(int button, bool down, double x, double y, int mods)
     }
     input_.pressX = x;
     input_.pressY = y;
+    return;
+  }
+  if (button == GLFW_MOUSE_BUTTON_LEFT && input_.regionDrag) {
+    input_.regionDrag = false;
+    float x0, y0, x1, y1;
+    view_.toImage(input_.pressX, input_.pressY, x0, y0);
+    view_.toImage(x, y, x1, y1);
+    const bool click = std::abs(x - input_.pressX) < 3 && std::abs(y - input_.pressY) < 3;
+    const int left = int(std::floor(std::min(x0, x1))), top = int(std::floor(std::min(y0, y1)));
+    const int right = int(std::ceil(std::max(x0, x1))), bottom = int(std::ceil(std::max(y0, y1)));
+    setRegion(click ? RenderRegion{} : RenderRegion{left, top, right - left, bottom - top});
     return;
   }
   const bool wasLeft = button == GLFW_MOUSE_BUTTON_LEFT && input_.dragging[button];

@@ -294,6 +294,14 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
     if (ImGui::Button("open scene (.json/.gltf/.glb/.obj)") && v.openField[0])
       actions.openScene(v.openField);
   }
+  if (ImGui::CollapsingHeader("Render region")) {
+    // Ctrl + left drag on the image draws one; ctrl + click clears it.
+    ImGui::InputInt4("x, y, w, h", v.regionField);
+    if (ImGui::Button("render only this"))
+      actions.setRegion({v.regionField[0], v.regionField[1], v.regionField[2], v.regionField[3]});
+    ImGui::SameLine();
+    if (ImGui::Button("render everything")) actions.setRegion({});
+  }
   if (ImGui::CollapsingHeader("Save")) {
     ImGui::InputText("image", v.savePath, sizeof v.savePath);
     if (ImGui::Button("save image (.exr/.png)"))
@@ -311,6 +319,7 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
         "left drag: orbit, right drag: pan the camera\n"
         "ctrl+scroll: dolly, WASD QE: fly\n"
         "click: inspect a pixel, I inspector, Tab panel\n"
+        "ctrl+left drag: render region, ctrl+click: clear it\n"
         "space pause/resume, N one round, P screenshot\n"
         "ctrl+S save image, Esc quit",
         std::min<size_t>(9, overlayList().size()));

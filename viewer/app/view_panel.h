@@ -37,6 +37,7 @@ struct PanelActions {
   std::function<void(const std::string&)> requestScreenshot;
   std::function<void(int, int)> inspectPixel;  // (-1, -1): none
   std::function<void(const std::string&)> openScene;  // the message says how it went
+  std::function<void(RenderRegion)> setRegion;        // an empty region renders everything
 };
 
 void drawPanel(const PanelState& state, const PanelActions& actions);

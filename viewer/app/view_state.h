@@ -17,6 +17,17 @@
 
 namespace penumbra {
 
+// A render region in image pixels (as Cycles' viewport has): rendering spends every sample
+// inside it, and the rest keeps its last picture, dimmed. width 0: none.
+struct RenderRegion {
+  int x = 0, y = 0, width = 0, height = 0;
+  bool active() const { return width > 0 && height > 0; }
+  bool contains(int px, int py) const {
+    return active() && px >= x && py >= y && px < x + width && py < y + height;
+  }
+  bool operator==(const RenderRegion&) const = default;
+};
+
 struct ViewOptions {
   std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
   // Reads a scene file as the command loaded the first one (its flags applied). When set, the
@@ -24,6 +35,7 @@ struct ViewOptions {
   // another scene (dropped on the window, or typed in the panel).
   std::function<Scene(const std::string& path)> loadScene;
   std::string scenePath;
+  RenderRegion region;  // the render region to start with (--region)
   MethodKind method = MethodKind::Bp;
   // Every method's configuration, in MethodKind's order: what the panel edits, kept when
   // the panel switches to another method and back.
@@ -69,6 +81,8 @@ struct ViewState {
   char savePath[512] = "penumbra.exr";
   char screenshotField[512] = "screenshot.png";
   char openField[512] = "";  // the panel's scene file field
+  RenderRegion region;        // the active render region
+  int regionField[4] = {0, 0, 0, 0};  // the panel's x, y, w, h fields
 
   // The image position under framebuffer position (x, y).
   void toImage(double x, double y, float& imageX, float& imageY) const {
@@ -81,6 +95,7 @@ struct ViewState {
 // the last press were, and the keys held (GLFW's codes).
 struct InputState {
   bool dragging[3] = {false, false, false};
+  bool regionDrag = false;  // ctrl + left drag: a render region is being drawn
   double lastX = 0, lastY = 0, pressX = 0, pressY = 0;
   bool held[512] = {};
 };

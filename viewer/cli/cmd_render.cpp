@@ -307,20 +307,11 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, int
 // --region x,y,w,h: only that window of the full image is rendered, and written, as a w x h
 // image (the camera's view is the full image's; every sample lands inside the window).
 void applyRegion(const std::string& text, Scene& scene) {
-  int x = 0, y = 0, w = 0, h = 0;
-  char c1 = 0, c2 = 0, c3 = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c%d%c%d%c", &x, &c1, &y, &c2, &w, &c3, &h, &extra) != 7 ||
-      c1 != ',' || c2 != ',' || c3 != ',')
-    throw CommandError("--region: expected x,y,w,h in pixels, got '" + text + "'");
-  const int fullW = scene.settings.width, fullH = scene.settings.height;
-  if (w < 1 || h < 1 || x < 0 || y < 0 || x > fullW - w || y > fullH - h)
-    throw CommandError("--region: " + text + " does not fit the " + std::to_string(fullW) + "x" +
-                       std::to_string(fullH) + " image (x,y >= 0, w,h >= 1, x+w <= width, "
-                       "y+h <= height)");
+  const auto [x, y, w, h] = parseRegion(text, scene.settings.width, scene.settings.height);
   scene.camera.regionX = x;
   scene.camera.regionY = y;
-  scene.camera.fullWidth = fullW;
-  scene.camera.fullHeight = fullH;
+  scene.camera.fullWidth = scene.settings.width;
+  scene.camera.fullHeight = scene.settings.height;
   scene.settings.width = w;
   scene.settings.height = h;
 }

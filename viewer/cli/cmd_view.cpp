@@ -40,7 +40,7 @@ struct ViewFlags {
   bool raw = false;
   bool headless = false, withUi = false;
   int rounds = 4;
-  std::string screenshot, backend = "auto", windowSize, inspect;
+  std::string screenshot, backend = "auto", windowSize, inspect, region;
   std::string script, report;
   bool continuous = false;
 };
@@ -66,6 +66,11 @@ ViewOptions makeOptions(const ViewFlags& f) {
   Scene scene = loadSceneWithOptions(f.scene);
   o.scene = prepareScene(std::move(scene));
   o.scenePath = f.scene.scenePath;
+  if (!f.region.empty()) {
+    const auto [x, y, w, h] =
+        parseRegion(f.region, o.scene->scene.settings.width, o.scene->scene.settings.height);
+    o.region = RenderRegion{x, y, w, h};
+  }
   o.loadScene = [flags = f.scene](const std::string& path) {
     SceneOptions withPath = flags;
     withPath.scenePath = path;
@@ -461,6 +466,9 @@ void registerViewCommand(CLI::App& app) {
       ->group(headless);
   c->add_flag("--with-ui", flags->withUi, "Headless: draw the panel (and inspector) too")
       ->group(headless);
+  c->add_option("--region", flags->region,
+                "Render only the window x,y,w,h of the image (pixels); the rest shows dimmed. "
+                "In the window: ctrl + left drag draws one, ctrl + click clears it");
   c->add_option("--inspect", flags->inspect, "Inspect pixel X,Y (headless: before the screenshot)")
       ->group(headless);
   c->add_option("--window-size", flags->windowSize,

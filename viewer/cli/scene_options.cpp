@@ -105,4 +105,17 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
   return scene;
 }
 
+std::array<int, 4> parseRegion(const std::string& text, int fullW, int fullH) {
+  int x = 0, y = 0, w = 0, h = 0;
+  char c1 = 0, c2 = 0, c3 = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c%d%c%d%c", &x, &c1, &y, &c2, &w, &c3, &h, &extra) != 7 ||
+      c1 != ',' || c2 != ',' || c3 != ',')
+    throw CommandError("--region: expected x,y,w,h in pixels, got '" + text + "'");
+  if (w < 1 || h < 1 || x < 0 || y < 0 || x > fullW - w || y > fullH - h)
+    throw CommandError("--region: " + text + " does not fit the " + std::to_string(fullW) + "x" +
+                       std::to_string(fullH) + " image (x,y >= 0, w,h >= 1, x+w <= width, "
+                       "y+h <= height)");
+  return {x, y, w, h};
+}
+
 }  // namespace penumbra

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -25,5 +26,9 @@ void addSceneOptions(CLI::App& command, SceneOptions& options);
 // file. The scene's warnings (features of a glTF file that are not rendered) go to stderr,
 // one line each.
 Scene loadSceneWithOptions(const SceneOptions& options);
+
+// --region x,y,w,h of a fullWidth x fullHeight image, as {x, y, w, h}; throws CommandError
+// naming the flag when it is malformed or does not fit.
+std::array<int, 4> parseRegion(const std::string& text, int fullWidth, int fullHeight);
 
 }  // namespace penumbra
