@@ -414,7 +414,33 @@ float srgb8ToLinear(unsigned char v) {
 constexpr uint64_t kMaxSamplesPerByte = 2048;
 constexpr uint64_t kMinSampleAllowance = uint64_t(1) << 20;
 
+// stb_image grows its buffer to a PNG chunk's stated length before it reads the chunk, so a
+// length field of gigabytes in a small file makes it allocate gigabytes (found by fuzzing).
+// Every chunk of a PNG must fit in the file: checked first, up to IEND.
+void checkPngChunks(const std::string& path, const std::vector<unsigned char>& bytes) {
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kSignature, 8) != 0) return;
+  size_t at = 8;
+  while (bytes.size() - at >= 8) {
+    const uint32_t length = uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 |
+                            uint32_t(bytes[at + 2]) << 8 | uint32_t(bytes[at + 3]);
+    const std::string type(reinterpret_cast<const char*>(bytes.data()) + at + 4, 4);
+    if (uint64_t(length) + 12 > bytes.size() - at) {
+      std::string shown = type;
+      for (char& c : shown)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '?';
+      fail(path, "truncated or damaged PNG: chunk '" + shown + "' at byte " + std::to_string(at) +
+                     " claims " + std::to_string(length) + " bytes, " +
+                     std::to_string(bytes.size() - at - std::min<size_t>(bytes.size() - at, 12)) +
+                     " are left");
+    }
+    if (type == "IEND") return;
+    at += 12 + size_t(length);
+  }
+}
+
 Image readStb(const std::string& path, bool radianceHdr) {
+  checkPngChunks(path, readWholeFile(path));
   FilePtr file = openForReading(path);
   int width = 0, height = 0, channelsInFile = 0;
   {

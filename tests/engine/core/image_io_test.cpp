@@ -245,6 +245,21 @@ TEST(ImageIo, PngHeaderAskingForTooManyPixelsIsRefused) {
                 "10000x10000 pixels are too many for a file of");
 }
 
+// A PNG chunk whose length field claims a gigabyte in a small file (the fuzzer's find: stb_image
+// grew its buffer to the claimed size first) is refused before stb reads it.
+TEST(ImageIo, PngChunkLongerThanTheFileIsRefused) {
+  const std::string dir = freshDir("png_chunk");
+  const std::vector<uint8_t> png = encodePng8(2, 2, 3, std::vector<uint8_t>(12, 200));
+  std::string bytes(png.begin(), png.end());
+  const size_t idat = bytes.find("IDAT");
+  ASSERT_NE(idat, std::string::npos);
+  const unsigned char huge[4] = {0x40, 0, 0, 0};  // 2^30, big-endian
+  bytes.replace(idat - 4, 4, reinterpret_cast<const char*>(huge), 4);
+  writeRaw(dir + "/chunk.png", bytes);
+  expectIoError([&] { readImage(dir + "/chunk.png"); }, dir + "/chunk.png",
+                "chunk 'IDAT' at byte " + std::to_string(idat - 4) + " claims 1073741824 bytes");
+}
+
 TEST(ImageIo, UnsupportedExtensionListsTheSupportedOnes) {
   const std::string dir = freshDir("ext");
   const Image image(2, 2);
