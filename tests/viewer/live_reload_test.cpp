@@ -19,8 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per test: CTest runs the tests in parallel processes.
 std::string folder() {
-  const std::string dir = test::outputPath("viewer/live_reload");
+  const std::string dir =
+      test::outputPath(std::string("viewer/live_reload/") +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -54,11 +57,18 @@ ViewOptions optionsFor(const std::string& path) {
   return o;
 }
 
+const char* const kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+// Writes tri.obj and scene.json (grey, seen from +z) into dir; returns the scene's path.
+std::string writeScene(const std::string& dir) {
+  write(dir + "/tri.obj", kTriangle, 0);
+  write(dir + "/scene.json", sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  return dir + "/scene.json";
+}
+
 TEST(LiveReload, ReloadsOnAChangeOfTheSceneOrAFileItNames) {
   const std::string dir = folder();
-  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
-  const std::string path = dir + "/scene.json";
-  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  const std::string path = writeScene(dir);
   ViewerApp app(optionsFor(path));
   EXPECT_EQ(app.options().scene->scene.sourceFiles.size(), 2u);
   const int restarts = app.restarts();
@@ -78,9 +88,7 @@ TEST(LiveReload, ReloadsOnAChangeOfTheSceneOrAFileItNames) {
 
 TEST(LiveReload, ABrokenFileKeepsTheLastGoodSceneAndSaysWhy) {
   const std::string dir = folder();
-  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
-  const std::string path = dir + "/scene.json";
-  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  const std::string path = writeScene(dir);
   ViewerApp app(optionsFor(path));
   const auto before = app.options().scene;
 
@@ -91,16 +99,14 @@ TEST(LiveReload, ABrokenFileKeepsTheLastGoodSceneAndSaysWhy) {
   EXPECT_NE(app.lastMessage().find("tri.obj:2:"), std::string::npos) << app.lastMessage();
   EXPECT_FALSE(app.checkSceneFiles()) << "a failed file is not retried until it changes";
 
-  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 4);
+  write(dir + "/tri.obj", kTriangle, 4);
   EXPECT_TRUE(app.checkSceneFiles()) << "mended: loads again";
   EXPECT_NE(app.options().scene, before);
 }
 
 TEST(LiveReload, TheCameraIsKeptUnlessTheFilesCameraChanged) {
   const std::string dir = folder();
-  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
-  const std::string path = dir + "/scene.json";
-  write(path, sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  const std::string path = writeScene(dir);
   ViewerApp app(optionsFor(path));
   // The user flies the camera elsewhere (W, held for half a second).
   app.keyEvent(87 /* W */, true, 0);
@@ -120,10 +126,9 @@ TEST(LiveReload, TheCameraIsKeptUnlessTheFilesCameraChanged) {
 
 TEST(LiveReload, OpeningAnotherSceneTakesItsCameraAndWatchesItsFiles) {
   const std::string dir = folder();
-  write(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0);
-  write(dir + "/a.json", sceneText("[0.5, 0.5, 0.5]", "[0, 0, 3]"), 0);
+  const std::string a = writeScene(dir);
   write(dir + "/b.json", sceneText("[0.1, 0.2, 0.3]", "[3, 0, 0]"), 0);
-  ViewerApp app(optionsFor(dir + "/a.json"));
+  ViewerApp app(optionsFor(a));
   EXPECT_FALSE(app.openScene(dir + "/missing.json"));
   EXPECT_NE(app.lastMessage().find("missing.json"), std::string::npos) << app.lastMessage();
   ASSERT_TRUE(app.openScene(dir + "/b.json"));

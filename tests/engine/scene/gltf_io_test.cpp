@@ -6,6 +6,7 @@
 
 #include "core/image_io.h"
 #include "scene/scene_loader.h"
+#include "tests/engine/scene/expect_scene_error.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -88,7 +89,8 @@ Json quadGltf(const std::string& bufferUri, size_t bufferBytes) {
           {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}, {"metallicFactor", 0.0}}}},
         {{"name", "gold"},
          {"pbrMetallicRoughness",
-          {{"baseColorFactor", {1.0, 0.8, 0.3, 1.0}}, {"metallicFactor", 1.0},
+          {{"baseColorFactor", {1.0, 0.8, 0.3, 1.0}},
+           {"metallicFactor", 1.0},
            {"roughnessFactor", 0.3}}}},
         {{"name", "lamp"},
          {"emissiveFactor", {1.0, 0.5, 0.25}},
@@ -104,13 +106,17 @@ Json quadGltf(const std::string& bufferUri, size_t bufferBytes) {
         {{"buffer", 0}, {"byteOffset", 96}, {"byteLength", 32}},
         {{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 12}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-         {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 4},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 0}}},
         {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
         {{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
         {{"bufferView", 3}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
-      {"extensionsUsed", {"KHR_materials_emissive_strength", "KHR_materials_transmission",
-                          "KHR_materials_ior"}}};
+      {"extensionsUsed",
+       {"KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior"}}};
   return j;
 }
 
@@ -118,8 +124,11 @@ std::string dataUri(const std::string& bytes) {
   return "data:application/octet-stream;base64," + base64(bytes);
 }
 
+// Under a folder of the test's own: CTest runs the tests in parallel processes.
 std::string writeFile(const std::string& name, const std::string& contents) {
-  const std::string path = test::outputPath("gltf/" + name);
+  const std::string path = test::outputPath(
+      std::string("gltf/") + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "/" +
+      name);
   std::filesystem::create_directories(std::filesystem::path(path).parent_path());
   std::ofstream(path, std::ios::binary) << contents;
   return path;
@@ -127,16 +136,7 @@ std::string writeFile(const std::string& name, const std::string& contents) {
 
 std::string writeGltf(const std::string& name, const Json& j) { return writeFile(name, j.dump()); }
 
-void expectSceneError(const std::function<void()>& load, std::initializer_list<std::string> parts) {
-  try {
-    load();
-    ADD_FAILURE() << "no SceneError";
-  } catch (const SceneError& e) {
-    const std::string message = e.what();
-    for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
-  }
-}
+using test::expectSceneError;
 
 void expectNear(vec3 got, vec3 want) {
   EXPECT_NEAR(got.x, want.x, 1e-5f);
@@ -187,8 +187,7 @@ TEST(Gltf, BaseColourTextureIsLinearTimesTheFactor) {
   Json j = quadGltf(dataUri(buffer), buffer.size());
   // A 2x1 PNG: sRGB 255 and 128 in red.
   const std::vector<uint8_t> png = encodePng8(2, 1, 3, {255, 0, 0, 128, 0, 0});
-  j["images"] = {{{"uri", "data:image/png;base64," +
-                              base64(std::string(png.begin(), png.end()))}}};
+  j["images"] = {{{"uri", "data:image/png;base64," + base64(std::string(png.begin(), png.end()))}}};
   j["textures"] = {{{"source", 0}}};
   j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   const GltfData g = loadGltf(writeGltf("textured.gltf", j));
@@ -197,8 +196,8 @@ TEST(Gltf, BaseColourTextureIsLinearTimesTheFactor) {
   ASSERT_EQ(t.kind, Texture::Kind::Image);
   const Image& image = g.images[size_t(t.imageIndex)];
   ASSERT_EQ(image.width, 2);
-  EXPECT_NEAR(image.pixels[0].x, 0.5f, 1e-5f);                 // 1.0 x factor 0.5
-  EXPECT_NEAR(image.pixels[1].x, 0.5f * 0.2158605f, 1e-4f);    // sRGB 128 -> 0.2159
+  EXPECT_NEAR(image.pixels[0].x, 0.5f, 1e-5f);               // 1.0 x factor 0.5
+  EXPECT_NEAR(image.pixels[1].x, 0.5f * 0.2158605f, 1e-4f);  // sRGB 128 -> 0.2159
 }
 
 TEST(Gltf, CamerasFirstByNameOrFramed) {
@@ -281,16 +280,16 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["materials"][1]["pbrMetallicRoughness"]["metallicFactor"] = 0.7;
   j["nodes"][2]["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
   j["extensionsUsed"].push_back("KHR_lights_punctual");
-  j["extensions"] = {{"KHR_lights_punctual",
-                      {{"lights", {{{"type", "point"}, {"intensity", 10.0}}}}}}};
+  j["extensions"] = {
+      {"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 10.0}}}}}}};
   j["animations"] = Json::array();
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
   std::string all;
   for (const std::string& w : g.warnings) all += w + "\n";
-  for (const char* part : {"materials[0]: normalTexture is not rendered yet",
-                           "materials[0]: alphaMode MASK", "materials[1]: metallic 0.7",
-                           "KHR_lights_punctual: punctual lights are not rendered yet",
-                           "extension KHR_lights_punctual is not supported"})
+  for (const char* part :
+       {"materials[0]: normalTexture is not rendered yet", "materials[0]: alphaMode MASK",
+        "materials[1]: metallic 0.7", "KHR_lights_punctual: punctual lights are not rendered yet",
+        "extension KHR_lights_punctual is not supported"})
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
 }
 
@@ -307,9 +306,8 @@ TEST(Gltf, AMissingImageFileIsAnErrorNamingIt) {
 TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
   const std::string buffer = quadBuffer();
   writeGltf("include/quad.gltf", quadGltf(dataUri(buffer), buffer.size()));
-  const std::string scenePath = writeFile(
-      "include/scene.json",
-      R"({"camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]},
+  const std::string scenePath = writeFile("include/scene.json",
+                                          R"({"camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]},
           "materials": {"white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
           "objects": [
             {"shape": "mesh", "file": "quad.gltf", "transform": {"translate": [0, 5, 0]}},

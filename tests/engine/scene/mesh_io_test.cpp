@@ -3,6 +3,7 @@
 // for damaged files, and the MTL-to-Material mapping.
 #include "scene/mesh_io.h"
 
+#include "tests/engine/scene/expect_scene_error.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -29,20 +30,7 @@ std::string writeFile(const std::string& name, const std::string& contents) {
   return path;
 }
 
-// Runs `load` and checks it throws a SceneError whose message has every fragment.
-void expectSceneError(const std::function<void()>& load,
-                      std::initializer_list<std::string> fragments) {
-  try {
-    load();
-    ADD_FAILURE() << "no SceneError thrown";
-  } catch (const SceneError& error) {
-    const std::string message = error.what();
-    for (const std::string& fragment : fragments) {
-      EXPECT_NE(message.find(fragment), std::string::npos)
-          << "'" << fragment << "' not in: " << message;
-    }
-  }
-}
+using test::expectSceneError;
 
 // Builds binary PLY bodies value by value in a chosen byte order.
 class Bytes {

@@ -6,6 +6,7 @@
 
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
+#include "tests/engine/scene/expect_scene_error.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -19,24 +20,14 @@
 namespace penumbra {
 namespace {
 
-// The check must throw a SceneError whose message holds every one of `parts`.
-void expectError(const std::function<void()>& check, std::initializer_list<std::string> parts) {
-  try {
-    check();
-    ADD_FAILURE() << "no error";
-  } catch (const SceneError& e) {
-    const std::string message = e.what();
-    for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
-  }
-}
+using test::expectSceneError;
 
 void expectObjError(const std::string& text, std::initializer_list<std::string> parts) {
-  expectError([&] { checkObjText(text, "m.obj"); }, parts);
+  expectSceneError([&] { checkObjText(text, "m.obj"); }, parts);
 }
 
 void expectMtlError(const std::string& text, std::initializer_list<std::string> parts) {
-  expectError([&] { checkMtlText(text, "m.mtl"); }, parts);
+  expectSceneError([&] { checkMtlText(text, "m.mtl"); }, parts);
 }
 
 TEST(ObjCheck, WellFormedTextPasses) {
@@ -85,8 +76,8 @@ TEST(ObjCheck, MalformedIndicesNameLineAndCorner) {
   expectObjError(tri + "f 1/1/ 2 3\n", {"corner 1", "empty normal index"});
   expectObjError(tri + "f 1/ 2 3\n", {"corner 1", "empty texcoord index"});
   expectObjError(tri + "f 1/1/1/1 2 3\n", {"corner 1", "more than three indices"});
-  expectObjError(tri + "f -1 -2 -4\n", {"corner 3", "-4 reaches before the first vertex",
-                                        "3 defined so far"});
+  expectObjError(tri + "f -1 -2 -4\n",
+                 {"corner 3", "-4 reaches before the first vertex", "3 defined so far"});
   expectObjError(tri + "f 1//-2 2 3\n", {"normal index -2", "1 defined so far"});
   expectObjError(tri + "f 1 2 -9223372036854775808\n", {"corner 3", "reaches before"});
   expectObjError(tri + "f 1 2 99999999999999999999\n", {"corner 3", "not an integer"});
@@ -97,10 +88,11 @@ TEST(ObjCheck, MalformedIndicesNameLineAndCorner) {
 }
 
 TEST(ObjCheck, MtlNumbers) {
-  EXPECT_NO_THROW(checkMtlText("# lib\nnewmtl a\nKa 0 0 0\nKd 0.5 0.5 0.5\nKs 1 1 1\nKe 0 0 0\n"
-                               "Tf 1 1 1\nNs 10\nNi 1.5\nd 1\nTr 0\nillum 2\nmap_Kd a b.png\n"
-                               "newmtl b\nKd 1 1 1\n",
-                               "m.mtl"));
+  EXPECT_NO_THROW(
+      checkMtlText("# lib\nnewmtl a\nKa 0 0 0\nKd 0.5 0.5 0.5\nKs 1 1 1\nKe 0 0 0\n"
+                   "Tf 1 1 1\nNs 10\nNi 1.5\nd 1\nTr 0\nillum 2\nmap_Kd a b.png\n"
+                   "newmtl b\nKd 1 1 1\n",
+                   "m.mtl"));
   expectMtlError("newmtl a\nKd 1 x 1\n", {"m.mtl:2:", "'Kd' g", "'x'"});
   expectMtlError("newmtl a\nKd 1 1\n", {"m.mtl:2:", "'Kd' needs 3 numbers, got 2"});
   expectMtlError("newmtl a\nNs\n", {"'Ns' needs 1 numbers, got 0"});
@@ -121,16 +113,16 @@ std::string writeFile(const std::string& name, const std::string& contents) {
 TEST(ObjCheck, LoadObjChecksTheObjAndItsMtl) {
   const std::string badVertex =
       writeFile("obj_check/bad_vertex.obj", "v 0 0 0\nv 0 zero 0\nv 1 0 0\nf 1 2 3\n");
-  expectError([&] { loadObj(badVertex); }, {"bad_vertex.obj:2:", "'v' y", "'zero'"});
+  expectSceneError([&] { loadObj(badVertex); }, {"bad_vertex.obj:2:", "'v' y", "'zero'"});
 
   writeFile("obj_check/bad.mtl", "newmtl red\nKd 1 0 0\nNs ten\n");
   const std::string badMtl = writeFile(
       "obj_check/bad_mtl.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
-  expectError([&] { loadObj(badMtl); }, {"bad.mtl:3:", "'Ns'", "'ten'"});
+  expectSceneError([&] { loadObj(badMtl); }, {"bad.mtl:3:", "'Ns'", "'ten'"});
 
   // A good file still loads, and a missing library still falls back to the default.
-  const std::string good = writeFile(
-      "obj_check/good.obj", "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string good =
+      writeFile("obj_check/good.obj", "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(loadObj(good).mesh.indices.size(), 3u);
 }
 
