@@ -3,15 +3,15 @@
 // crash or a full disk never leaves a half-written image where a viewer expects a whole one.
 #include "core/image_io.h"
 
-#include <stb/stb_image.h>
-#include <stb/stb_image_write.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
-#include <ImfPartType.h>
 #include <ImfOutputFile.h>
+#include <ImfPartType.h>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -29,6 +29,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <set>
@@ -157,8 +158,8 @@ ExrLayout readExrLayout(const std::string& path, const std::vector<unsigned char
   size_t at = 0;
   auto need = [&](size_t n, const char* what) {
     if (bytes.size() - at < n)
-      fail(path, std::string("truncated EXR header (") + what + " at byte " + std::to_string(at) +
-                     ")");
+      fail(path,
+           std::string("truncated EXR header (") + what + " at byte " + std::to_string(at) + ")");
   };
   auto readInt = [&](const char* what) {
     need(4, what);
@@ -268,7 +269,7 @@ ExrPlanes readExrPlanes(const std::string& path) {
     for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
       out.channels.emplace_back(c.name(), std::vector<float>(size_t(width) * size_t(height), 0.0f));
       frame.insert(c.name(), Imf::Slice::Make(Imf::FLOAT, out.channels.back().second.data(), window,
-                                             sizeof(float), sizeof(float) * size_t(width)));
+                                              sizeof(float), sizeof(float) * size_t(width)));
     }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
@@ -292,7 +293,8 @@ Image readExr(const std::string& path) {
   if (!(rgb[0] && rgb[1] && rgb[2])) {
     if (planes.channels.size() != 1) {
       std::string names;
-      for (const auto& channel : planes.channels) names += (names.empty() ? "" : ", ") + channel.first;
+      for (const auto& channel : planes.channels)
+        names += (names.empty() ? "" : ", ") + channel.first;
       fail(path, "no R, G, B channels to read as an image (it has " + names + ")");
     }
     rgb[0] = rgb[1] = rgb[2] = &planes.channels[0].second;
@@ -440,41 +442,41 @@ void checkPngChunks(const std::string& path, const std::vector<unsigned char>& b
 }
 
 Image readStb(const std::string& path, bool radianceHdr) {
-  checkPngChunks(path, readWholeFile(path));
-  FilePtr file = openForReading(path);
+  // Read once; the checks and stb all work on the bytes in memory.
+  const std::vector<unsigned char> bytes = readWholeFile(path);
+  checkPngChunks(path, bytes);
+  if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail(path, "file too large");
+  const stbi_uc* data = bytes.data();
+  const int size = int(bytes.size());
   int width = 0, height = 0, channelsInFile = 0;
-  {
-    std::error_code ec;
-    const uintmax_t fileBytes = fs::file_size(path, ec);
-    if (ec) fail(path, "cannot read file size: " + ec.message());
-    if (!stbi_info_from_file(file.get(), &width, &height, &channelsInFile)) fail(path, stbReason());
-    const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 3;
-    if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(fileBytes)))
-      fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
-                     " pixels are too many for a file of " + std::to_string(fileBytes) + " bytes");
-  }
+  if (!stbi_info_from_memory(data, size, &width, &height, &channelsInFile)) fail(path, stbReason());
+  const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 3;
+  if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(bytes.size())))
+    fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
+                   " pixels are too many for a file of " + std::to_string(bytes.size()) + " bytes");
   Image image;
-  const auto fill = [&](const auto* data, auto toLinear) {
-    if (!data) fail(path, stbReason());
+  const auto fill = [&](const auto* decoded, auto toLinear) {
+    if (!decoded) fail(path, stbReason());
     image = Image(width, height);
     for (size_t i = 0; i < image.pixels.size(); ++i)
-      image.pixels[i] =
-          vec3(toLinear(data[3 * i]), toLinear(data[3 * i + 1]), toLinear(data[3 * i + 2]));
+      image.pixels[i] = vec3(toLinear(decoded[3 * i]), toLinear(decoded[3 * i + 1]),
+                             toLinear(decoded[3 * i + 2]));
   };
   if (radianceHdr) {
     // stbi_loadf would silently gamma-decode an LDR file renamed to .hdr; refuse instead.
-    if (!stbi_is_hdr_from_file(file.get())) fail(path, "not a Radiance HDR file");
-    std::unique_ptr<float, decltype(&stbi_image_free)> data(
-        stbi_loadf_from_file(file.get(), &width, &height, &channelsInFile, 3), &stbi_image_free);
-    fill(data.get(), [](float v) { return v; });
-  } else if (stbi_is_16_bit_from_file(file.get())) {
-    std::unique_ptr<stbi_us, decltype(&stbi_image_free)> data(
-        stbi_load_from_file_16(file.get(), &width, &height, &channelsInFile, 3), &stbi_image_free);
-    fill(data.get(), [](stbi_us v) { return srgbToLinear(float(v) / 65535.0f); });
+    if (!stbi_is_hdr_from_memory(data, size)) fail(path, "not a Radiance HDR file");
+    std::unique_ptr<float, decltype(&stbi_image_free)> decoded(
+        stbi_loadf_from_memory(data, size, &width, &height, &channelsInFile, 3), &stbi_image_free);
+    fill(decoded.get(), [](float v) { return v; });
+  } else if (stbi_is_16_bit_from_memory(data, size)) {
+    std::unique_ptr<stbi_us, decltype(&stbi_image_free)> decoded(
+        stbi_load_16_from_memory(data, size, &width, &height, &channelsInFile, 3),
+        &stbi_image_free);
+    fill(decoded.get(), [](stbi_us v) { return srgbToLinear(float(v) / 65535.0f); });
   } else {
-    std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> data(
-        stbi_load_from_file(file.get(), &width, &height, &channelsInFile, 3), &stbi_image_free);
-    fill(data.get(), srgb8ToLinear);
+    std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> decoded(
+        stbi_load_from_memory(data, size, &width, &height, &channelsInFile, 3), &stbi_image_free);
+    fill(decoded.get(), srgb8ToLinear);
   }
   return image;
 }
@@ -651,9 +653,9 @@ void writeExrLayers(const std::string& path, int width, int height,
       for (const auto& [name, values] : channels) {
         header.channels().insert(name, Imf::Channel(Imf::FLOAT));
         // OpenEXR only reads through this pointer while writing.
-        frame.insert(name, Imf::Slice(Imf::FLOAT,
-                                      reinterpret_cast<char*>(const_cast<float*>(values.data())),
-                                      sizeof(float), sizeof(float) * size_t(width)));
+        frame.insert(
+            name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(values.data())),
+                             sizeof(float), sizeof(float) * size_t(width)));
       }
       Imf::OutputFile file(tmpPath.c_str(), header);
       file.setFrameBuffer(frame);
