@@ -43,9 +43,9 @@ struct CameraFrame {
   float halfHeight = 0, halfWidth = 0;  // film extent on the plane at distance 1
   float lensRadius = 0, focusDistance = 1;
   float shutterOpen = 0, shutterClose = 1;
-  int width = 1, height = 1;           // the image rendered (the region, with one)
-  int offsetX = 0, offsetY = 0;        // of the region in the full image
-  int fullWidth = 1, fullHeight = 1;   // the full image
+  int width = 1, height = 1;          // the image rendered (the region, with one)
+  int offsetX = 0, offsetY = 0;       // of the region in the full image
+  int fullWidth = 1, fullHeight = 1;  // the full image
 };
 
 // Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view) or

@@ -2,8 +2,8 @@
 
 #include "scene/mesh_io.h"
 
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -69,7 +69,8 @@ std::string jsonText(const std::string& path, const std::string& bytes, bool bin
   if (littleEndian32(bytes, 16) != 0x4E4F534Au)  // "JSON"
     fail(path, "", "the first chunk of a .glb must be JSON");
   if (length > bytes.size() - 20)
-    fail(path, "", "JSON chunk of " + std::to_string(length) + " bytes runs past the end of the file");
+    fail(path, "",
+         "JSON chunk of " + std::to_string(length) + " bytes runs past the end of the file");
   return bytes.substr(20, length);
 }
 
@@ -118,23 +119,32 @@ std::vector<std::string> checkUris(const std::string& path, const std::string& j
 size_t componentBytes(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 int componentCount(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    default:
+      return 0;
   }
 }
 
@@ -168,8 +178,8 @@ class AccessorReader {
     if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
       fail(path_, where_, "buffer view runs past the end of its buffer");
     const size_t need = count_ == 0 ? 0 : a.byteOffset + stride_ * (count_ - 1) + element_;
-    if (a.byteOffset > view.byteLength || (count_ > 0 && (stride_ * (count_ - 1)) / stride_ !=
-                                                             count_ - 1) ||
+    if (a.byteOffset > view.byteLength ||
+        (count_ > 0 && (stride_ * (count_ - 1)) / stride_ != count_ - 1) ||
         need > view.byteLength || need < a.byteOffset)
       fail(path_, where_,
            std::to_string(count_) + " elements run past the end of their buffer view");
@@ -189,8 +199,10 @@ class AccessorReader {
         std::memcpy(&v, p, 4);
         return v;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return scaled(double(p[0]), 255.0);
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(scaled(double(int8_t(p[0])), 127.0), -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return scaled(double(p[0]), 255.0);
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return std::max(scaled(double(int8_t(p[0])), 127.0), -1.0);
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         uint16_t v;
         std::memcpy(&v, p, 2);
@@ -235,8 +247,7 @@ mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t 
     for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = float(node.matrix[size_t(k)]);
     return m;
   }
-  if (!node.matrix.empty())
-    fail(path, indexed("nodes", index) + ".matrix", "expected 16 numbers");
+  if (!node.matrix.empty()) fail(path, indexed("nodes", index) + ".matrix", "expected 16 numbers");
   mat4 t(1.0f), r(1.0f), s(1.0f);
   if (node.translation.size() == 3)
     t = glm::translate(mat4(1.0f), vec3(float(node.translation[0]), float(node.translation[1]),
@@ -250,7 +261,8 @@ mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t 
     r = glm::mat4_cast(q / length);
   }
   if (node.scale.size() == 3)
-    s = glm::scale(mat4(1.0f), vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
+    s = glm::scale(mat4(1.0f),
+                   vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
   return t * r * s;
 }
 
@@ -301,9 +313,10 @@ class Converter {
   void nodes(const std::string& cameraName) {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
-      const size_t scene = model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()
-                               ? size_t(model_.defaultScene)
-                               : 0;
+      const size_t scene =
+          model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()
+              ? size_t(model_.defaultScene)
+              : 0;
       roots = model_.scenes[scene].nodes;
     } else {
       // No scene: every node that is no other node's child is a root.
@@ -328,7 +341,8 @@ class Converter {
       if (!supportedExtension(e)) warn("extension " + e + " is not supported and is ignored");
     for (const std::string& e : model_.extensionsRequired)
       if (!supportedExtension(e))
-        warn("extension " + e + " is required by the file but not supported: the picture may be wrong");
+        warn("extension " + e +
+             " is required by the file but not supported: the picture may be wrong");
   }
 
  private:
@@ -354,14 +368,16 @@ class Converter {
     const int t = m.pbrMetallicRoughness.baseColorTexture.index;
     if (t < 0) return -1;
     const std::string where = indexed("materials", index) + ".baseColorTexture";
-    if (size_t(t) >= model_.textures.size()) fail(path_, where, "texture " + std::to_string(t) + " does not exist");
+    if (size_t(t) >= model_.textures.size())
+      fail(path_, where, "texture " + std::to_string(t) + " does not exist");
     const int source = model_.textures[size_t(t)].source;
     if (source < 0 || size_t(source) >= model_.images.size())
       fail(path_, where, "its texture has no image");
     if (m.pbrMetallicRoughness.baseColorTexture.texCoord != 0)
       warn(where + ": uv set " + std::to_string(m.pbrMetallicRoughness.baseColorTexture.texCoord) +
            " is not read; the first uv set is used");
-    out_.images.push_back(linearImage(path_, model_.images[size_t(source)], size_t(source), factor));
+    out_.images.push_back(
+        linearImage(path_, model_.images[size_t(source)], size_t(source), factor));
     Texture texture;
     texture.kind = Texture::Kind::Image;
     texture.imageIndex = int(out_.images.size() - 1);
@@ -382,8 +398,8 @@ class Converter {
     base = glm::clamp(base, vec3(0.0f), vec3(1.0f));
     const float metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
     const float roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
-    const float transmission =
-        float(extensionNumber(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
+    const float transmission = float(
+        extensionNumber(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
     if (transmission >= 0.5f) {
       out.type = Material::Type::Dielectric;
       out.ior = float(extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5));
@@ -417,12 +433,12 @@ class Converter {
     if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
       warn(where + ": alphaMode " + m.alphaMode + " is not rendered yet (drawn opaque)");
     if (m.emissiveFactor.size() == 3) {
-      const float strength = float(
-          extensionNumber(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
-      out.emission = glm::max(vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]),
-                                   float(m.emissiveFactor[2])) *
-                                  std::max(strength, 0.0f),
-                              vec3(0.0f));
+      const float strength = float(extensionNumber(m.extensions, "KHR_materials_emissive_strength",
+                                                   "emissiveStrength", 1.0));
+      out.emission = glm::max(
+          vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2])) *
+              std::max(strength, 0.0f),
+          vec3(0.0f));
       if (!std::isfinite(out.emission.x + out.emission.y + out.emission.z))
         fail(path_, where + ".emissiveFactor", "not finite");
     }
@@ -453,7 +469,8 @@ class Converter {
     if (node.camera >= 0) cameraNodes_.push_back({index, world});
     if (node.extensions.count("KHR_lights_punctual"))
       warn("KHR_lights_punctual: punctual lights are not rendered yet");
-    for (int child : node.children) visit(child, world, indexed("nodes", size_t(index)) + ".children");
+    for (int child : node.children)
+      visit(child, world, indexed("nodes", size_t(index)) + ".children");
     onPath_[size_t(index)] = 0;
   }
 
@@ -485,23 +502,25 @@ class Converter {
 
       const uint32_t base = out_.mesh.vertexCount;
       for (size_t v = 0; v < vertexCount; ++v) {
-        const glm::vec4 pw = world * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
-                                                float(positions.get(v, 2)), 1.0f);
-        if (!std::isfinite(pw.x + pw.y + pw.z)) fail(path_, positions.where(), "non-finite position");
+        const glm::vec4 pw =
+            world * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
+                              float(positions.get(v, 2)), 1.0f);
+        if (!std::isfinite(pw.x + pw.y + pw.z))
+          fail(path_, positions.where(), "non-finite position");
         out_.mesh.positions.push_back(vec3(pw));
       }
       const auto accessorOf = [&](const char* name) {
         const auto it = prim.attributes.find(name);
         return it == prim.attributes.end() ? -1 : it->second;
       };
-      appendAttribute(accessorOf("NORMAL"), where + ".NORMAL", vertexCount, 3, out_.mesh.normals, anyNormals_,
-                      [&](const AccessorReader& r, size_t v) {
+      appendAttribute(accessorOf("NORMAL"), where + ".NORMAL", vertexCount, 3, out_.mesh.normals,
+                      anyNormals_, [&](const AccessorReader& r, size_t v) {
                         const vec3 n = normalMatrix * vec3(float(r.get(v, 0)), float(r.get(v, 1)),
                                                            float(r.get(v, 2)));
                         return n;
                       });
-      appendAttribute(accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2, out_.mesh.uvs, anyUvs_,
-                      [&](const AccessorReader& r, size_t v) {
+      appendAttribute(accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
+                      out_.mesh.uvs, anyUvs_, [&](const AccessorReader& r, size_t v) {
                         // glTF's v runs down the image; ours runs up.
                         return vec2(float(r.get(v, 0)), 1.0f - float(r.get(v, 1)));
                       });
@@ -528,7 +547,8 @@ class Converter {
       uint32_t materialId;
       if (prim.material >= 0) {
         if (size_t(prim.material) >= model_.materials.size())
-          fail(path_, where + ".material", "material " + std::to_string(prim.material) + " does not exist");
+          fail(path_, where + ".material",
+               "material " + std::to_string(prim.material) + " does not exist");
         materialId = uint32_t(prim.material);
       } else {
         materialId = defaultMaterial();
@@ -541,8 +561,10 @@ class Converter {
       };
       if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
         if (order.size() % 3 != 0)
-          fail(path_, where, std::to_string(order.size()) + " indices is not a whole number of triangles");
-        for (size_t k = 0; k + 2 < order.size(); k += 3) triangle(order[k], order[k + 1], order[k + 2]);
+          fail(path_, where,
+               std::to_string(order.size()) + " indices is not a whole number of triangles");
+        for (size_t k = 0; k + 2 < order.size(); k += 3)
+          triangle(order[k], order[k + 1], order[k + 2]);
       } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (size_t k = 0; k + 2 < order.size(); ++k)
           k % 2 == 0 ? triangle(order[k], order[k + 1], order[k + 2])
@@ -556,8 +578,8 @@ class Converter {
   // Appends an optional per-vertex attribute; once one primitive has it, every vertex gets a
   // value (zeros for primitives without, and for the vertices before).
   template <typename T, typename Read>
-  void appendAttribute(int accessor, const std::string& where, size_t vertexCount,
-                       int components, std::vector<T>& values, bool& any, Read&& read) {
+  void appendAttribute(int accessor, const std::string& where, size_t vertexCount, int components,
+                       std::vector<T>& values, bool& any, Read&& read) {
     const bool has = accessor >= 0;
     if (!has && !any) return;
     if (has && !any) {
@@ -570,8 +592,9 @@ class Converter {
     }
     const AccessorReader r(path_, model_, accessor, where);
     if (r.components() != components || r.count() != vertexCount)
-      fail(path_, r.where(), "expected " + std::to_string(vertexCount) + " VEC" +
-                                 std::to_string(components) + " values");
+      fail(path_, r.where(),
+           "expected " + std::to_string(vertexCount) + " VEC" + std::to_string(components) +
+               " values");
     for (size_t v = 0; v < vertexCount; ++v) {
       const T value = read(r, v);
       bool finite = true;
@@ -589,7 +612,8 @@ class Converter {
         fail(path_, indexed("nodes", size_t(entry.first)) + ".camera", "camera does not exist");
       const tinygltf::Camera& camera = model_.cameras[size_t(node.camera)];
       if (camera.type != "perspective") {
-        warn(indexed("cameras", size_t(node.camera)) + ": " + camera.type + " cameras are not supported");
+        warn(indexed("cameras", size_t(node.camera)) + ": " + camera.type +
+             " cameras are not supported");
         continue;
       }
       const std::string label = node.name.empty() ? camera.name : node.name;
@@ -600,8 +624,9 @@ class Converter {
     if (!name.empty() && !chosen) {
       std::string list;
       for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-      fail(path_, "", "no perspective camera named '" + name + "' (there are: " +
-                          (list.empty() ? "none" : list) + ")");
+      fail(path_, "",
+           "no perspective camera named '" + name +
+               "' (there are: " + (list.empty() ? "none" : list) + ")");
     }
     if (!chosen) return;
     const tinygltf::Node& node = model_.nodes[size_t(chosen->first)];

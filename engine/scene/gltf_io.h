@@ -25,9 +25,9 @@ struct GltfData {
   // Every primitive of every node of the scene, in world space, as one mesh; materialIds
   // index `materials`.
   Mesh mesh;
-  std::vector<Material> materials;      // albedoTexture indexes `textures`
-  std::vector<Texture> textures;        // Kind::Image, imageIndex into `images`
-  std::vector<Image> images;            // linear RGB (base colour factor applied)
+  std::vector<Material> materials;  // albedoTexture indexes `textures`
+  std::vector<Texture> textures;    // Kind::Image, imageIndex into `images`
+  std::vector<Image> images;        // linear RGB (base colour factor applied)
   bool hasCamera = false;
   Camera camera;
   std::vector<std::string> warnings;  // features present but not rendered, one line each

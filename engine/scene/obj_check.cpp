@@ -83,8 +83,8 @@ class Checker {
     const std::string_view statement = line[0];
     const int given = int(line.size()) - 1;
     if (given < lo || given > hi) {
-      const std::string want = lo == hi ? std::to_string(lo)
-                                        : join({std::to_string(lo), " to ", std::to_string(hi)});
+      const std::string want =
+          lo == hi ? std::to_string(lo) : join({std::to_string(lo), " to ", std::to_string(hi)});
       fail(join({"'", statement, "' needs ", want, " numbers, got ", std::to_string(given)}));
     }
     for (int k = 1; k <= given; ++k) {
@@ -99,7 +99,8 @@ class Checker {
       std::string_view digits = token;
       if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
       double value = 0.0;
-      const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+      const auto [end, error] =
+          std::from_chars(digits.data(), digits.data() + digits.size(), value);
       if (end != digits.data() + digits.size() ||
           (error != std::errc() && error != std::errc::result_out_of_range))
         failField(" is not a number");
@@ -140,8 +141,8 @@ void checkCorners(const Checker& c, const Line& line, int minimum) {
   for (int k = 1; k <= corners; ++k) {
     const std::string_view corner = line[size_t(k)];
     const auto bad = [&](const char* why) {
-      c.fail(join({"'", statement, "' corner ", std::to_string(k), ": ", Checker::quoted(corner),
-                   why}));
+      c.fail(join(
+          {"'", statement, "' corner ", std::to_string(k), ": ", Checker::quoted(corner), why}));
     };
     const size_t slash1 = corner.find('/');
     c.index(statement, k, "vertex", corner.substr(0, slash1), c.positions);

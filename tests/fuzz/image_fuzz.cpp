@@ -6,8 +6,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > 1 << 16) return 0;
   try {
-    penumbra::readImage(penumbra::fuzz::writeInput(std::string("input") + PENUMBRA_FUZZ_EXT, data,
-                                                   size));
+    penumbra::readImage(
+        penumbra::fuzz::writeInput(std::string("input") + PENUMBRA_FUZZ_EXT, data, size));
   } catch (const penumbra::ImageIoError&) {
   }
   return 0;

@@ -57,8 +57,10 @@ std::string plyQuad(const std::string& format) {
 }
 
 // A red emissive triangle seen by a camera: as .gltf (buffer in a data: URI) and as .glb.
-const char* const kTriangleGltf = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
-const char* const kTriangleGlbJson = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+const char* const kTriangleGltf =
+    R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+const char* const kTriangleGlbJson =
+    R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
 
 std::string triangleGlb() {
   std::string bin;
@@ -119,7 +121,9 @@ int main(int argc, char** argv) {
   writeImage((root / "pfm" / "gradient.pfm").string(), image);
   writeImage((root / "png" / "gradient.png").string(), image);
   writeExrLayers((root / "exr" / "layers.exr").string(), 2, 2,
-                 {{"R", {1, 2, 3, 4}}, {"G", {0, 0, 0, 0}}, {"B", {1, 1, 1, 1}},
+                 {{"R", {1, 2, 3, 4}},
+                  {"G", {0, 0, 0, 0}},
+                  {"B", {1, 1, 1, 1}},
                   {"variance.Y", {0.1f, 0.2f, 0.3f, 0.4f}}});
   std::printf("seeds written under %s\n", root.string().c_str());
   return 0;

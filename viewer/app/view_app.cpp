@@ -52,7 +52,7 @@ ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
 
 void ViewerApp::watchSceneFiles() {
   watched_ = options_.loadScene && !options_.scenePath.empty() ? options_.scene->scene.sourceFiles
-                                                                : std::vector<std::string>{};
+                                                               : std::vector<std::string>{};
   stamps_ = stampFiles();
   lastFileCheck_ = Clock::now();
 }
@@ -84,13 +84,14 @@ bool ViewerApp::checkSceneFiles() {
   }
   const Camera oldFileCamera = options_.scene->scene.camera;
   const Camera& newFileCamera = prepared->scene.camera;
-  const bool cameraChanged =
-      oldFileCamera.eye != newFileCamera.eye || oldFileCamera.lookAt != newFileCamera.lookAt ||
-      oldFileCamera.up != newFileCamera.up || oldFileCamera.vfovDegrees != newFileCamera.vfovDegrees ||
-      oldFileCamera.lensRadius != newFileCamera.lensRadius ||
-      oldFileCamera.focusDistance != newFileCamera.focusDistance ||
-      oldFileCamera.shutterOpen != newFileCamera.shutterOpen ||
-      oldFileCamera.shutterClose != newFileCamera.shutterClose;
+  const bool cameraChanged = oldFileCamera.eye != newFileCamera.eye ||
+                             oldFileCamera.lookAt != newFileCamera.lookAt ||
+                             oldFileCamera.up != newFileCamera.up ||
+                             oldFileCamera.vfovDegrees != newFileCamera.vfovDegrees ||
+                             oldFileCamera.lensRadius != newFileCamera.lensRadius ||
+                             oldFileCamera.focusDistance != newFileCamera.focusDistance ||
+                             oldFileCamera.shutterOpen != newFileCamera.shutterOpen ||
+                             oldFileCamera.shutterClose != newFileCamera.shutterClose;
   options_.scene = std::move(prepared);
   if (cameraChanged) view_.camera = options_.scene->scene.camera;
   watchSceneFiles();  // the new scene may refer to other files
@@ -184,7 +185,8 @@ bool ViewerApp::update() {
   // A snapshot of the method before the last restart is an old view: not shown.
   if (version != seenVersion_ && generation == generation_) {
     seenVersion_ = version;
-    snapshot_ = latest && view_.region.active() ? placeInRegion(std::move(latest)) : std::move(latest);
+    snapshot_ =
+        latest && view_.region.active() ? placeInRegion(std::move(latest)) : std::move(latest);
     // The first round after a restart, when there was no preview.
     if (snapshot_ && firstPreviewSeconds_ < 0) {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
@@ -277,11 +279,10 @@ void ViewerApp::setRegion(RenderRegion region) {
   view_.regionField[1] = clamped.y;
   view_.regionField[2] = clamped.width;
   view_.regionField[3] = clamped.height;
-  message_ = clamped.active() ? "render region " + std::to_string(clamped.x) + "," +
-                                    std::to_string(clamped.y) + "," +
-                                    std::to_string(clamped.width) + "," +
-                                    std::to_string(clamped.height)
-                              : "render region cleared";
+  message_ = clamped.active()
+                 ? "render region " + std::to_string(clamped.x) + "," + std::to_string(clamped.y) +
+                       "," + std::to_string(clamped.width) + "," + std::to_string(clamped.height)
+                 : "render region cleared";
   restart();
 }
 

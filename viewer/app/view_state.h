@@ -80,8 +80,8 @@ struct ViewState {
   bool showPanel = true, showInspector = true, showHelp = false;
   char savePath[512] = "penumbra.exr";
   char screenshotField[512] = "screenshot.png";
-  char openField[512] = "";  // the panel's scene file field
-  RenderRegion region;        // the active render region
+  char openField[512] = "";           // the panel's scene file field
+  RenderRegion region;                // the active render region
   int regionField[4] = {0, 0, 0, 0};  // the panel's x, y, w, h fields
 
   // The image position under framebuffer position (x, y).

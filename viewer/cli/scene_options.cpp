@@ -113,7 +113,8 @@ std::array<int, 4> parseRegion(const std::string& text, int fullW, int fullH) {
     throw CommandError("--region: expected x,y,w,h in pixels, got '" + text + "'");
   if (w < 1 || h < 1 || x < 0 || y < 0 || x > fullW - w || y > fullH - h)
     throw CommandError("--region: " + text + " does not fit the " + std::to_string(fullW) + "x" +
-                       std::to_string(fullH) + " image (x,y >= 0, w,h >= 1, x+w <= width, "
+                       std::to_string(fullH) +
+                       " image (x,y >= 0, w,h >= 1, x+w <= width, "
                        "y+h <= height)");
   return {x, y, w, h};
 }

@@ -3,14 +3,14 @@
 #include "core/image_io.h"
 #include "tests/test_paths.h"
 
-#include <gtest/gtest.h>
-#include <stb/stb_image_write.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
 #include <ImfTiledOutputFile.h>
+#include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
 #include <unistd.h>
 
 #include <algorithm>

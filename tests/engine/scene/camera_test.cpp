@@ -114,7 +114,8 @@ TEST(Camera, RegionRaysAreTheFullImagesRaysOffset) {
   r.fullHeight = 100;
   const CameraFrame region = makeCameraFrame(r, 50, 40);
   EXPECT_EQ(region.width, 50);
-  for (const auto& [x, y] : {std::pair{0.5f, 0.5f}, std::pair{49.9f, 39.1f}, std::pair{12.3f, 7.7f}}) {
+  for (const auto& [x, y] :
+       {std::pair{0.5f, 0.5f}, std::pair{49.9f, 39.1f}, std::pair{12.3f, 7.7f}}) {
     CameraSample s;
     s.imageX = x;
     s.imageY = y;
