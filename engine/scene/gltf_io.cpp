@@ -462,6 +462,12 @@ class Converter {
     if (index < 0 || size_t(index) >= model_.nodes.size())
       fail(path_, from, "node " + std::to_string(index) + " does not exist");
     if (onPath_[size_t(index)]) fail(path_, indexed("nodes", size_t(index)), "is its own ancestor");
+    // A node may be reached along many paths (instancing); a small file whose nodes list the
+    // same child twice, level after level, would reach it 2^depth times.
+    if (++visits_ > kMaxNodeInstances)
+      fail(path_, "",
+           "more than " + std::to_string(kMaxNodeInstances) +
+               " node instances (a child listed many times over)");
     onPath_[size_t(index)] = 1;
     const tinygltf::Node& node = model_.nodes[size_t(index)];
     const mat4 world = parent * localTransform(path_, node, size_t(index));
@@ -497,8 +503,9 @@ class Converter {
         fail(path_, positions.where(), "POSITION must be float VEC3");
       const size_t vertexCount = positions.count();
       if (vertexCount == 0) continue;
-      if (vertexCount > (size_t(1) << 31) - out_.mesh.vertexCount)
-        fail(path_, where, "too many vertices");
+      if (vertexCount > kMaxVertices - out_.mesh.vertexCount)
+        fail(path_, where,
+             "the scene would have more than " + std::to_string(kMaxVertices) + " vertices");
 
       const uint32_t base = out_.mesh.vertexCount;
       for (size_t v = 0; v < vertexCount; ++v) {
@@ -544,6 +551,9 @@ class Converter {
         order.resize(vertexCount);
         for (size_t k = 0; k < vertexCount; ++k) order[k] = uint32_t(k);
       }
+      if (order.size() > 3 * kMaxVertices - out_.mesh.indices.size())
+        fail(path_, where,
+             "the scene would have more than " + std::to_string(kMaxVertices) + " triangles");
       uint32_t materialId;
       if (prim.material >= 0) {
         if (size_t(prim.material) >= model_.materials.size())
@@ -653,6 +663,10 @@ class Converter {
   std::vector<std::pair<int, mat4>> cameraNodes_;
   std::set<std::string> warned_;
   int defaultMaterial_ = -1;
+  size_t visits_ = 0;
+  // Bounds on what instancing can multiply a small file into (about 2 GB of vertices).
+  static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
+  static constexpr size_t kMaxVertices = size_t(1) << 26;
   bool anyNormals_ = false, anyUvs_ = false;
 };
 

@@ -267,6 +267,13 @@ TEST(Gltf, DamagedFilesNameTheElement) {
   j["meshes"][0]["primitives"][0]["material"] = 9;
   expectSceneError([&] { loadGltf(writeGltf("material.gltf", j)); },
                    {"meshes[0].primitives[0].material", "material 9 does not exist"});
+  // Every node lists the next one twice: 2^30 instances of the last from 31 nodes.
+  j = quadGltf(dataUri(buffer), buffer.size());
+  j["scenes"][0]["nodes"] = {4};
+  for (int n = 4; n < 34; ++n) j["nodes"][size_t(n)] = {{"children", {n + 1, n + 1}}};
+  j["nodes"][34] = {{"mesh", 0}};
+  expectSceneError([&] { loadGltf(writeGltf("instances.gltf", j)); },
+                   {"instances.gltf", "more than 1048576 node instances"});
   expectSceneError([&] { loadGltf(writeFile("junk.gltf", "{\"asset\": ")); }, {"junk.gltf"});
   expectSceneError([&] { loadGltf(writeFile("junk.glb", "glTF\x02")); },
                    {"junk.glb", "not a binary glTF file"});
