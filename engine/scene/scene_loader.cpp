@@ -395,7 +395,7 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
   r.checkKeys(node, f,
               {"name", "shape", "material", "transform", "motion", "flip_normals", "radius", "size",
                "segments", "rings", "height", "capped", "major_radius", "minor_radius",
-               "tube_segments", "file"});
+               "tube_segments", "file", "material_overrides"});
   if (!node.contains("shape")) r.fail(f, "missing field 'shape'");
   const std::string shape = r.string(node["shape"], f + ".shape");
   std::vector<Material> objMaterials;
@@ -403,14 +403,45 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
   Mesh mesh = readShape(r, node, f, shape, scene, objMaterials, objMaps);
   mesh.name = node.contains("name") ? r.string(node["name"], f + ".name") : shape;
 
+  if (node.contains("material_overrides") && (node.contains("material") || objMaterials.empty()))
+    r.fail(f + ".material_overrides",
+           node.contains("material")
+               ? "give either 'material' (for all of it) or 'material_overrides', not both"
+               : "only an OBJ or glTF file brings materials to override");
   if (node.contains("material")) {
     const std::string name = r.string(node["material"], f + ".material");
     const auto it = materials.find(name);
     if (it == materials.end()) r.fail(f + ".material", "unknown material '" + name + "'");
     mesh.materialIds.assign(mesh.triangleCount(), uint32_t(it->second));
   } else if (!objMaterials.empty()) {
+    // material_overrides: {"a material of the file": "a material of the scene", ...}
+    std::vector<int> replaced(objMaterials.size(), -1);
+    if (node.contains("material_overrides")) {
+      const std::string of = f + ".material_overrides";
+      const Json& overrides = node["material_overrides"];
+      if (!overrides.is_object()) r.fail(of, "expected an object of material names");
+      for (const auto& item : overrides.items()) {
+        const std::string target = r.string(item.value(), of + "." + item.key());
+        const auto named = materials.find(target);
+        if (named == materials.end())
+          r.fail(of + "." + item.key(), "unknown material '" + target + "'");
+        bool found = false;
+        for (size_t i = 0; i < objMaterials.size(); ++i)
+          if (objMaterials[i].name == item.key()) {
+            replaced[i] = named->second;
+            found = true;
+          }
+        if (!found) {
+          std::string names;
+          for (const Material& m : objMaterials) names += (names.empty() ? "" : ", ") + m.name;
+          r.fail(of + "." + item.key(),
+                 "the file has no material '" + item.key() + "' (it has: " + names + ")");
+        }
+      }
+    }
     const uint32_t offset = appendObjMaterials(scene, objMaterials, objMaps, r.file() + ": " + f);
-    for (uint32_t& id : mesh.materialIds) id += offset;
+    for (uint32_t& id : mesh.materialIds)
+      id = id < replaced.size() && replaced[id] >= 0 ? uint32_t(replaced[id]) : id + offset;
   } else {
     r.fail(f, "missing field 'material'");
   }

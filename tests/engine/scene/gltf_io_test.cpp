@@ -327,5 +327,32 @@ TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
   for (uint32_t id : scene.meshes[1].materialIds) EXPECT_EQ(scene.materials[id].name, "white");
 }
 
+TEST(Gltf, IncludedFilesMaterialsCanBeOverriddenOneByOne) {
+  const std::string buffer = quadBuffer();
+  writeGltf("quad.gltf", quadGltf(dataUri(buffer), buffer.size()));
+  const std::string scenePath = writeFile("scene.json", R"({
+      "materials": {"white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+      "objects": [{"shape": "mesh", "file": "quad.gltf",
+                   "material_overrides": {"paint": "white"}}]})");
+  const Scene scene = loadScene(scenePath);
+  // The child's triangles used "paint" and now use "white"; the plain instance keeps "glass".
+  ASSERT_EQ(scene.meshes[0].materialIds.size(), 4u);
+  EXPECT_EQ(scene.materials[scene.meshes[0].materialIds[0]].name, "white");
+  EXPECT_EQ(scene.materials[scene.meshes[0].materialIds[2]].name, "glass");
+
+  const std::string bad = writeFile("bad.json", R"({
+      "materials": {"white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+      "objects": [{"shape": "mesh", "file": "quad.gltf",
+                   "material_overrides": {"varnish": "white"}}]})");
+  expectSceneError([&] { loadScene(bad); },
+                   {"bad.json", "objects[0].material_overrides.varnish",
+                    "the file has no material 'varnish' (it has: paint, gold, lamp, glass"});
+  const std::string both = writeFile("both.json", R"({
+      "materials": {"white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+      "objects": [{"shape": "mesh", "file": "quad.gltf", "material": "white",
+                   "material_overrides": {"paint": "white"}}]})");
+  expectSceneError([&] { loadScene(both); }, {"objects[0].material_overrides", "not both"});
+}
+
 }  // namespace
 }  // namespace penumbra
