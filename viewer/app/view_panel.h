@@ -35,7 +35,7 @@ struct PanelActions {
   std::function<void()> shownImageChanged;                   // raw/reconstructed toggled
   std::function<std::string(const std::string&)> saveImage;  // returns a message
   std::function<void(const std::string&)> requestScreenshot;
-  std::function<void(int, int)> inspectPixel;  // (-1, -1): none
+  std::function<void(int, int)> inspectPixel;         // (-1, -1): none
   std::function<void(const std::string&)> openScene;  // the message says how it went
   std::function<void(RenderRegion)> setRegion;        // an empty region renders everything
 };
