@@ -18,8 +18,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace penumbra {
 namespace {
@@ -272,9 +274,13 @@ float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-// A decoded glTF image as linear RGB, times `factor`.
-Image linearImage(const std::string& path, const tinygltf::Image& source, size_t index,
-                  vec3 factor) {
+// How a texture's texels become ours: colour (sRGB to linear, times a factor), data (raw
+// values, for normal maps) or coverage (the alpha channel, 1 without one, in all three).
+enum class Texels { Color, Data, Alpha };
+
+// A decoded glTF image turned into one of ours.
+Image imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
+                    Texels texels, vec3 factor) {
   const std::string where = indexed("images", index);
   const int w = source.width, h = source.height, n = source.component;
   const int bytesPer = source.bits == 16 ? 2 : 1;
@@ -293,20 +299,117 @@ Image linearImage(const std::string& path, const tinygltf::Image& source, size_t
                            : float(source.image[at]) / 255.0f;
     }
     const vec3 rgb = n < 3 ? vec3(c[0]) : vec3(c[0], c[1], c[2]);
-    image.pixels[p] = factor * vec3(srgbToLinear(rgb.x), srgbToLinear(rgb.y), srgbToLinear(rgb.z));
+    switch (texels) {
+      case Texels::Color:
+        image.pixels[p] =
+            factor * vec3(srgbToLinear(rgb.x), srgbToLinear(rgb.y), srgbToLinear(rgb.z));
+        break;
+      case Texels::Data:
+        image.pixels[p] = rgb;
+        break;
+      case Texels::Alpha:
+        image.pixels[p] = vec3(n == 2 ? c[1] : n == 4 ? c[3] : 1.0f);
+        break;
+    }
   }
   return image;
 }
+
+// ---- animation ------------------------------------------------------------------------------
+
+// One animated property of a node: keyframe times and values (for CUBICSPLINE, three values per
+// key: in-tangent, value, out-tangent).
+struct Track {
+  enum class Path { Translation, Rotation, Scale };
+  enum class Interpolation { Linear, Step, CubicSpline };
+  Path path = Path::Translation;
+  Interpolation interpolation = Interpolation::Linear;
+  std::vector<double> times;
+  std::vector<glm::dvec4> values;
+
+  glm::dvec4 value(size_t key, int part) const {
+    return interpolation == Interpolation::CubicSpline ? values[3 * key + size_t(part)]
+                                                       : values[key];
+  }
+
+  // The property at time t (held at the first and last keys outside them).
+  glm::dvec4 at(double t) const {
+    const size_t n = times.size();
+    if (t <= times.front()) return value(0, 1);
+    if (t >= times.back()) return value(n - 1, 1);
+    const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
+    const double dt = times[k + 1] - times[k];
+    const double u = dt > 0 ? (t - times[k]) / dt : 0.0;
+    glm::dvec4 v;
+    switch (interpolation) {
+      case Interpolation::Step:
+        return value(k, 1);
+      case Interpolation::CubicSpline: {
+        const double u2 = u * u, u3 = u2 * u;
+        v = (2 * u3 - 3 * u2 + 1) * value(k, 1) + (u3 - 2 * u2 + u) * dt * value(k, 2) +
+            (-2 * u3 + 3 * u2) * value(k + 1, 1) + (u3 - u2) * dt * value(k + 1, 0);
+        break;
+      }
+      case Interpolation::Linear:
+        if (path == Path::Rotation) {
+          const glm::dquat a(value(k, 1).w, value(k, 1).x, value(k, 1).y, value(k, 1).z);
+          const glm::dquat b(value(k + 1, 1).w, value(k + 1, 1).x, value(k + 1, 1).y,
+                             value(k + 1, 1).z);
+          const glm::dquat q = glm::slerp(a, b, u);
+          return {q.x, q.y, q.z, q.w};
+        }
+        v = (1 - u) * value(k, 1) + u * value(k + 1, 1);
+        break;
+    }
+    return v;
+  }
+};
 
 // ---- the conversion -------------------------------------------------------------------------
 
 class Converter {
  public:
-  Converter(const std::string& path, const tinygltf::Model& model, GltfData& out)
-      : path_(path), model_(model), out_(out) {}
+  Converter(const std::string& path, const tinygltf::Model& model, const GltfOptions& options,
+            GltfData& out)
+      : path_(path), model_(model), options_(options), out_(out) {}
 
   void materials() {
     for (size_t i = 0; i < model_.materials.size(); ++i) out_.materials.push_back(material(i));
+  }
+
+  // Reads every animation's translation, rotation and scale channels, and settles the shutter
+  // interval: from the frame time (default: the animations' start) for shutterSeconds.
+  void animations() {
+    tracks_.assign(model_.nodes.size(), {});
+    double start = INFINITY;
+    for (size_t a = 0; a < model_.animations.size(); ++a) {
+      const tinygltf::Animation& animation = model_.animations[a];
+      for (size_t c = 0; c < animation.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& channel = animation.channels[c];
+        const std::string where = indexed("animations", a) + "." + indexed("channels", c);
+        if (channel.target_path == "weights") {
+          warn(where + ": morph target weights are not animated");
+          continue;
+        }
+        if (channel.target_node < 0 || size_t(channel.target_node) >= model_.nodes.size())
+          fail(path_, where + ".target.node",
+               "node " + std::to_string(channel.target_node) + " does not exist");
+        if (!model_.nodes[size_t(channel.target_node)].matrix.empty())
+          fail(path_, where,
+               "animates " + indexed("nodes", size_t(channel.target_node)) +
+                   ", which has a matrix (glTF animates only translation, rotation and scale)");
+        Track track = readTrack(animation, channel, where);
+        start = std::min(start, track.times.front());
+        tracks_[size_t(channel.target_node)].push_back(std::move(track));
+      }
+    }
+    const bool any = std::isfinite(start);
+    out_.frameTime = options_.frameTime ? *options_.frameTime : (any ? start : 0.0);
+    out_.shutterSeconds = options_.shutterSeconds;
+    if (!std::isfinite(out_.frameTime) || !(out_.shutterSeconds >= 0) ||
+        !std::isfinite(out_.shutterSeconds))
+      fail(path_, "", "the frame time and shutter must be finite, the shutter not negative");
+    animating_ = any && options_.animate && out_.shutterSeconds > 0;
   }
 
   // Walks the scene's node tree from its roots.
@@ -328,14 +431,13 @@ class Converter {
         if (!child[i]) roots.push_back(int(i));
     }
     onPath_.assign(model_.nodes.size(), 0);
-    for (int root : roots) visit(root, mat4(1.0f), "scenes.nodes");
+    for (int root : roots) visit(root, {mat4(1.0f)}, "scenes.nodes");
     pickCamera(cameraName);
   }
 
   void warnAboutTheRest() {
-    if (!model_.animations.empty())
-      warn("animations: " + std::to_string(model_.animations.size()) +
-           " animation(s) not rendered yet (the scene is shown at rest)");
+    if (!model_.animations.empty() && !options_.animate)
+      warn("animations: shown at the frame time, without motion blur (an included file)");
     if (!model_.skins.empty()) warn("skins: skinning is not supported; meshes are shown unposed");
     for (const std::string& e : model_.extensionsUsed)
       if (!supportedExtension(e)) warn("extension " + e + " is not supported and is ignored");
@@ -346,9 +448,14 @@ class Converter {
   }
 
  private:
+  // Samples of a transform over the shutter: one (it does not move) or kSamples, evenly
+  // spread from the frame time to the frame time plus the shutter.
+  using Samples = std::vector<mat4>;
+  static constexpr int kSamples = 129;
+
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
-           e == "KHR_materials_ior";
+           e == "KHR_materials_ior" || e == "KHR_lights_punctual";
   }
 
   void warn(const std::string& message) {
@@ -363,26 +470,30 @@ class Converter {
     return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
   }
 
-  // The base colour texture as one of ours (factor baked in), or -1.
-  int baseColorTexture(const tinygltf::Material& m, size_t index, vec3 factor) {
-    const int t = m.pbrMetallicRoughness.baseColorTexture.index;
-    if (t < 0) return -1;
-    const std::string where = indexed("materials", index) + ".baseColorTexture";
-    if (size_t(t) >= model_.textures.size())
-      fail(path_, where, "texture " + std::to_string(t) + " does not exist");
-    const int source = model_.textures[size_t(t)].source;
+  // A texture of the file as one of ours, converted as `texels` say (factor baked in for
+  // colour); textures used twice the same way are converted once.
+  int texture(int index, int texCoord, const std::string& where, Texels texels, vec3 factor) {
+    if (index < 0) return -1;
+    if (size_t(index) >= model_.textures.size())
+      fail(path_, where, "texture " + std::to_string(index) + " does not exist");
+    const int source = model_.textures[size_t(index)].source;
     if (source < 0 || size_t(source) >= model_.images.size())
       fail(path_, where, "its texture has no image");
-    if (m.pbrMetallicRoughness.baseColorTexture.texCoord != 0)
-      warn(where + ": uv set " + std::to_string(m.pbrMetallicRoughness.baseColorTexture.texCoord) +
+    if (texCoord != 0)
+      warn(where + ": uv set " + std::to_string(texCoord) +
            " is not read; the first uv set is used");
+    const auto key = std::make_tuple(source, int(texels), factor.x, factor.y, factor.z);
+    const auto known = textureIds_.find(key);
+    if (known != textureIds_.end()) return known->second;
     out_.images.push_back(
-        linearImage(path_, model_.images[size_t(source)], size_t(source), factor));
-    Texture texture;
-    texture.kind = Texture::Kind::Image;
-    texture.imageIndex = int(out_.images.size() - 1);
-    out_.textures.push_back(texture);
-    return int(out_.textures.size() - 1);
+        imageFromGltf(path_, model_.images[size_t(source)], size_t(source), texels, factor));
+    Texture t;
+    t.kind = Texture::Kind::Image;
+    t.imageIndex = int(out_.images.size() - 1);
+    out_.textures.push_back(t);
+    const int id = int(out_.textures.size() - 1);
+    textureIds_[key] = id;
+    return id;
   }
 
   Material material(size_t index) {
@@ -390,48 +501,46 @@ class Converter {
     const std::string where = indexed("materials", index);
     Material out;
     out.name = m.name.empty() ? where : m.name;
+    out.type = Material::Type::Pbr;
     const auto& pbr = m.pbrMetallicRoughness;
     vec3 base(1.0f);
+    float alpha = 1.0f;
     if (pbr.baseColorFactor.size() >= 3)
       base = vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
                   float(pbr.baseColorFactor[2]));
-    base = glm::clamp(base, vec3(0.0f), vec3(1.0f));
-    const float metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
-    const float roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
-    const float transmission = float(
-        extensionNumber(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
-    if (transmission >= 0.5f) {
-      out.type = Material::Type::Dielectric;
-      out.ior = float(extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5));
-      if (!(out.ior >= 1.0f && out.ior < 10.0f)) out.ior = 1.5f;
-      if (transmission < 1.0f)
-        warn(where + ": transmission " + number(transmission) +
-             " rendered as full glass (partial transmission is not built yet)");
-    } else if (metallic >= 0.5f) {
-      out.type = Material::Type::Conductor;
-      out.albedo = base;
-      out.roughness = std::max(roughness, 0.02f);
-    } else {
-      out.type = Material::Type::Diffuse;
-      out.albedo = base;
-      out.albedoTexture = baseColorTexture(m, index, base);
-    }
-    if (transmission > 0.0f && transmission < 0.5f)
-      warn(where + ": transmission " + number(transmission) +
-           " below 0.5 rendered as opaque (partial transmission is not built yet)");
-    if (metallic > 0.0f && metallic < 1.0f)
-      warn(where + ": metallic " + number(metallic) + " rendered as " +
-           (metallic >= 0.5f ? "a conductor" : "diffuse") +
-           " (the stochastic mix of the two is not built yet)");
-    if (out.type == Material::Type::Conductor && pbr.baseColorTexture.index >= 0)
-      warn(where + ": the base colour texture of a metal is not used (its factor is)");
+    if (pbr.baseColorFactor.size() == 4) alpha = float(pbr.baseColorFactor[3]);
+    if (!std::isfinite(base.x + base.y + base.z + alpha))
+      fail(path_, where + ".pbrMetallicRoughness.baseColorFactor", "not finite");
+    out.albedo = glm::clamp(base, vec3(0.0f), vec3(1.0f));
+    out.albedoTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                where + ".baseColorTexture", Texels::Color, out.albedo);
+    out.metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
+    out.roughness = std::max(std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f), 0.02f);
+    out.transmission = std::clamp(float(extensionNumber(m.extensions, "KHR_materials_transmission",
+                                                        "transmissionFactor", 0.0)),
+                                  0.0f, 1.0f);
+    out.ior = float(extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5));
+    if (!(out.ior >= 1.0f && out.ior < 10.0f)) out.ior = 1.5f;
     if (pbr.metallicRoughnessTexture.index >= 0)
       warn(where + ": metallicRoughnessTexture is not read (the factors are)");
-    if (m.normalTexture.index >= 0) warn(where + ": normalTexture is not rendered yet");
+    if (m.extensions.count("KHR_materials_transmission") &&
+        m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
+      warn(where + ": transmissionTexture is not read (the factor is)");
+    if (m.normalTexture.index >= 0) {
+      out.normalTexture = texture(m.normalTexture.index, m.normalTexture.texCoord,
+                                  where + ".normalTexture", Texels::Data, vec3(1.0f));
+      out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
+    }
     if (m.occlusionTexture.index >= 0)
       warn(where + ": occlusionTexture is ignored (a path tracer computes occlusion)");
-    if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
-      warn(where + ": alphaMode " + m.alphaMode + " is not rendered yet (drawn opaque)");
+    if (m.alphaMode == "MASK") {
+      out.alpha = std::clamp(alpha, 0.0f, 1.0f);
+      out.alphaCutoff = std::isfinite(m.alphaCutoff) ? std::max(float(m.alphaCutoff), 0.0f) : 0.5f;
+      out.alphaTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                 where + ".baseColorTexture", Texels::Alpha, vec3(1.0f));
+    } else if (m.alphaMode == "BLEND") {
+      warn(where + ": alphaMode BLEND is drawn opaque (MASK cut-outs are rendered)");
+    }
     if (m.emissiveFactor.size() == 3) {
       const float strength = float(extensionNumber(m.extensions, "KHR_materials_emissive_strength",
                                                    "emissiveStrength", 1.0));
@@ -442,8 +551,9 @@ class Converter {
       if (!std::isfinite(out.emission.x + out.emission.y + out.emission.z))
         fail(path_, where + ".emissiveFactor", "not finite");
     }
-    if (m.emissiveTexture.index >= 0)
-      warn(where + ": emissiveTexture is not rendered yet (the emissive factor is, uniformly)");
+    if (out.isEmissive())
+      out.emissionTexture = texture(m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                    where + ".emissiveTexture", Texels::Color, vec3(1.0f));
     return out;
   }
 
@@ -458,7 +568,101 @@ class Converter {
     return uint32_t(defaultMaterial_);
   }
 
-  void visit(int index, const mat4& parent, const std::string& from) {
+  Track readTrack(const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
+                  const std::string& where) {
+    Track track;
+    if (channel.target_path == "translation")
+      track.path = Track::Path::Translation;
+    else if (channel.target_path == "rotation")
+      track.path = Track::Path::Rotation;
+    else if (channel.target_path == "scale")
+      track.path = Track::Path::Scale;
+    else
+      fail(path_, where + ".target.path", "unknown path '" + channel.target_path + "'");
+    if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
+      fail(path_, where + ".sampler",
+           "sampler " + std::to_string(channel.sampler) + " does not exist");
+    const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
+    if (sampler.interpolation == "STEP")
+      track.interpolation = Track::Interpolation::Step;
+    else if (sampler.interpolation == "CUBICSPLINE")
+      track.interpolation = Track::Interpolation::CubicSpline;
+    else if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty())
+      track.interpolation = Track::Interpolation::Linear;
+    else
+      fail(path_, where, "unknown interpolation '" + sampler.interpolation + "'");
+    const AccessorReader input(path_, model_, sampler.input, where + ".input");
+    if (input.components() != 1 || !input.isFloat() || input.count() == 0)
+      fail(path_, input.where(), "keyframe times must be a non-empty float SCALAR accessor");
+    for (size_t k = 0; k < input.count(); ++k) {
+      const double t = input.get(k, 0);
+      if (!std::isfinite(t) || (k > 0 && !(t > track.times.back())))
+        fail(path_, input.where(),
+             "keyframe time " + number(t) + " at " + std::to_string(k) +
+                 " is not finite and after the one before");
+      track.times.push_back(t);
+    }
+    const int components = track.path == Track::Path::Rotation ? 4 : 3;
+    const size_t perKey = track.interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
+    const AccessorReader output(path_, model_, sampler.output, where + ".output");
+    if (output.components() != components || output.count() != perKey * input.count())
+      fail(path_, output.where(),
+           "expected " + std::to_string(perKey * input.count()) + " VEC" +
+               std::to_string(components) + " values for " + std::to_string(input.count()) +
+               " keyframes");
+    for (size_t k = 0; k < output.count(); ++k) {
+      glm::dvec4 v(0.0);
+      for (int c = 0; c < components; ++c) v[c] = output.get(k, c);
+      if (!std::isfinite(v.x + v.y + v.z + v.w))
+        fail(path_, output.where(), "non-finite value at " + std::to_string(k));
+      track.values.push_back(v);
+    }
+    return track;
+  }
+
+  // The node's local transform at animation time t: its TRS with the animated parts replaced.
+  mat4 animatedLocal(const tinygltf::Node& node, size_t index, double t) const {
+    glm::dvec3 translation(0.0), scale(1.0);
+    glm::dquat rotation(1.0, 0.0, 0.0, 0.0);
+    if (node.translation.size() == 3)
+      translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.rotation.size() == 4)
+      rotation = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    if (node.scale.size() == 3) scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+    for (const Track& track : tracks_[index]) {
+      const glm::dvec4 v = track.at(t);
+      switch (track.path) {
+        case Track::Path::Translation:
+          translation = glm::dvec3(v);
+          break;
+        case Track::Path::Rotation:
+          rotation = glm::dquat(v.w, v.x, v.y, v.z);
+          break;
+        case Track::Path::Scale:
+          scale = glm::dvec3(v);
+          break;
+      }
+    }
+    const double length = glm::length(rotation);
+    if (!(length > 0.0) || !std::isfinite(length))
+      fail(path_, indexed("nodes", index) + ".rotation", "not a rotation quaternion");
+    const glm::dmat4 m = glm::translate(glm::dmat4(1.0), translation) *
+                         glm::mat4_cast(rotation / length) * glm::scale(glm::dmat4(1.0), scale);
+    return mat4(m);
+  }
+
+  // The node's local transform over the shutter.
+  Samples localSamples(const tinygltf::Node& node, size_t index) const {
+    if (tracks_.empty() || tracks_[index].empty()) return {localTransform(path_, node, index)};
+    if (!animating_) return {animatedLocal(node, index, out_.frameTime)};
+    Samples samples(kSamples);
+    for (int j = 0; j < kSamples; ++j)
+      samples[size_t(j)] = animatedLocal(
+          node, index, out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
+    return samples;
+  }
+
+  void visit(int index, const Samples& parent, const std::string& from) {
     if (index < 0 || size_t(index) >= model_.nodes.size())
       fail(path_, from, "node " + std::to_string(index) + " does not exist");
     if (onPath_[size_t(index)]) fail(path_, indexed("nodes", size_t(index)), "is its own ancestor");
@@ -470,130 +674,241 @@ class Converter {
                " node instances (a child listed many times over)");
     onPath_[size_t(index)] = 1;
     const tinygltf::Node& node = model_.nodes[size_t(index)];
-    const mat4 world = parent * localTransform(path_, node, size_t(index));
-    if (node.mesh >= 0) addMesh(node.mesh, world, indexed("nodes", size_t(index)));
-    if (node.camera >= 0) cameraNodes_.push_back({index, world});
-    if (node.extensions.count("KHR_lights_punctual"))
-      warn("KHR_lights_punctual: punctual lights are not rendered yet");
-    for (int child : node.children)
-      visit(child, world, indexed("nodes", size_t(index)) + ".children");
+    const Samples local = localSamples(node, size_t(index));
+    Samples world(std::max(parent.size(), local.size()));
+    for (size_t j = 0; j < world.size(); ++j)
+      world[j] = parent[std::min(j, parent.size() - 1)] * local[std::min(j, local.size() - 1)];
+    const std::string where = indexed("nodes", size_t(index));
+    if (node.mesh >= 0) addMesh(node.mesh, world, where);
+    // Cameras and lights are placed where they are when the shutter opens.
+    if (node.camera >= 0) cameraNodes_.push_back({index, world.front()});
+    if (node.extensions.count("KHR_lights_punctual")) addLight(node, world.front(), where);
+    for (int child : node.children) visit(child, world, where + ".children");
     onPath_[size_t(index)] = 0;
   }
 
-  void addMesh(int meshIndex, const mat4& world, const std::string& from) {
+  void addLight(const tinygltf::Node& node, const mat4& world, const std::string& where) {
+    const double index = extensionNumber(node.extensions, "KHR_lights_punctual", "light", -1.0);
+    if (!(index >= 0 && index < double(model_.lights.size())))
+      fail(path_, where + ".extensions.KHR_lights_punctual.light",
+           "light " + number(index) + " does not exist");
+    const tinygltf::Light& light = model_.lights[size_t(index)];
+    const std::string lightWhere =
+        "extensions.KHR_lights_punctual." + indexed("lights", size_t(index));
+    PunctualLight out;
+    out.name = light.name.empty() ? lightWhere : light.name;
+    if (light.type == "point")
+      out.kind = PunctualLight::Kind::Point;
+    else if (light.type == "spot")
+      out.kind = PunctualLight::Kind::Spot;
+    else if (light.type == "directional")
+      out.kind = PunctualLight::Kind::Directional;
+    else
+      fail(path_, lightWhere + ".type", "unknown light type '" + light.type + "'");
+    vec3 color(1.0f);
+    if (light.color.size() == 3)
+      color = vec3(float(light.color[0]), float(light.color[1]), float(light.color[2]));
+    out.intensity = glm::max(color, vec3(0.0f)) * std::max(float(light.intensity), 0.0f);
+    if (!std::isfinite(out.intensity.x + out.intensity.y + out.intensity.z))
+      fail(path_, lightWhere + ".intensity", "not finite");
+    out.position = vec3(world * glm::vec4(0, 0, 0, 1));
+    const vec3 direction = vec3(world * glm::vec4(0, 0, -1, 0));
+    const float length = glm::length(direction);
+    if (!(length > 0.0f) ||
+        !std::isfinite(length + out.position.x + out.position.y + out.position.z))
+      fail(path_, where, "the light's transform is degenerate");
+    out.direction = direction / length;
+    if (out.kind == PunctualLight::Kind::Spot) {
+      const double inner = std::clamp(light.spot.innerConeAngle, 0.0, 1.5707963267948966);
+      const double outer = std::clamp(light.spot.outerConeAngle, inner, 1.5707963267948966);
+      out.cosInner = float(std::cos(inner));
+      out.cosOuter = float(std::cos(outer));
+    }
+    if (light.range > 0)
+      warn(lightWhere + ": range is ignored (light falls off with the square of the distance)");
+    out_.lights.push_back(out);
+  }
+
+  // Segments (1, 2, 4, ... 128 of equal time) whose linear interpolation of the transform stays
+  // within 0.1% of the object's size of every sample; `radius` is the object's, about its origin.
+  static int segmentsFor(const Samples& world, float radius) {
+    const auto scaleOf = [](const mat4& m) {
+      return std::max({glm::length(vec3(m[0])), glm::length(vec3(m[1])), glm::length(vec3(m[2]))});
+    };
+    const float tolerance = 1e-3f * std::max(radius * scaleOf(world.front()), 1e-6f);
+    const int last = kSamples - 1;
+    for (int segments = 1; segments < last; segments *= 2) {
+      const int stride = last / segments;
+      float worst = 0;
+      for (int j = 0; j <= last; ++j) {
+        const int s = std::min(j / stride, segments - 1);
+        const float w = float(j - s * stride) / float(stride);
+        const mat4 d = (1 - w) * world[size_t(s * stride)] + w * world[size_t((s + 1) * stride)] -
+                       world[size_t(j)];
+        worst = std::max(worst, radius * std::max({glm::length(vec3(d[0])), glm::length(vec3(d[1])),
+                                                   glm::length(vec3(d[2]))}) +
+                                    glm::length(vec3(d[3])));
+      }
+      if (worst <= tolerance) return segments;
+    }
+    return last;
+  }
+
+  // A mesh instance: into the static mesh when it does not move, else one mesh per primitive
+  // with as many time steps as its motion needs.
+  void addMesh(int meshIndex, const Samples& world, const std::string& from) {
     if (size_t(meshIndex) >= model_.meshes.size())
       fail(path_, from, "mesh " + std::to_string(meshIndex) + " does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
-    const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(world));
-    const bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
-    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-      const tinygltf::Primitive& prim = mesh.primitives[p];
-      const std::string where =
-          indexed("meshes", size_t(meshIndex)) + "." + indexed("primitives", p);
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-        warn(where + ": points and lines are not rendered");
-        continue;
-      }
-      if (!prim.targets.empty()) warn(where + ": morph targets are not applied");
+    bool moves = false;
+    for (const mat4& m : world) moves = moves || m != world.front();
+    if (!moves) {
+      for (size_t p = 0; p < mesh.primitives.size(); ++p)
+        addPrimitive(mesh, size_t(meshIndex), p, {world.front()}, out_.mesh, anyNormals_, anyUvs_);
+      return;
+    }
+    float radius = 0;
+    for (const tinygltf::Primitive& prim : mesh.primitives) {
       const auto position = prim.attributes.find("POSITION");
-      if (position == prim.attributes.end()) fail(path_, where, "no POSITION attribute");
-      const AccessorReader positions(path_, model_, position->second, where + ".POSITION");
-      if (positions.components() != 3 || !positions.isFloat())
-        fail(path_, positions.where(), "POSITION must be float VEC3");
-      const size_t vertexCount = positions.count();
-      if (vertexCount == 0) continue;
-      if (vertexCount > kMaxVertices - out_.mesh.vertexCount)
-        fail(path_, where,
-             "the scene would have more than " + std::to_string(kMaxVertices) + " vertices");
+      if (position == prim.attributes.end()) continue;
+      const AccessorReader r(path_, model_, position->second, from);
+      for (size_t v = 0; v < r.count() && r.components() == 3; ++v)
+        radius =
+            std::max(radius, float(glm::length(glm::dvec3(r.get(v, 0), r.get(v, 1), r.get(v, 2)))));
+    }
+    const int segments = segmentsFor(world, radius);
+    const int stride = (kSamples - 1) / segments;
+    Samples steps;
+    for (int k = 0; k <= segments; ++k) steps.push_back(world[size_t(k * stride)]);
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      Mesh moving;
+      moving.name =
+          (model_.meshes[size_t(meshIndex)].name.empty() ? indexed("meshes", size_t(meshIndex))
+                                                         : model_.meshes[size_t(meshIndex)].name);
+      moving.timeSteps = int(steps.size());
+      bool normals = false, uvs = false;
+      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs);
+      if (!moving.indices.empty()) out_.animatedMeshes.push_back(std::move(moving));
+    }
+  }
 
-      const uint32_t base = out_.mesh.vertexCount;
+  // Appends one primitive to `target` (vertex time steps as many as `steps`; a target with
+  // several steps receives one primitive only).
+  void addPrimitive(const tinygltf::Mesh& mesh, size_t meshIndex, size_t p, const Samples& steps,
+                    Mesh& target, bool& anyNormals, bool& anyUvs) {
+    const tinygltf::Primitive& prim = mesh.primitives[p];
+    const std::string where = indexed("meshes", meshIndex) + "." + indexed("primitives", p);
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      warn(where + ": points and lines are not rendered");
+      return;
+    }
+    if (!prim.targets.empty()) warn(where + ": morph targets are not applied");
+    const auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) fail(path_, where, "no POSITION attribute");
+    const AccessorReader positions(path_, model_, position->second, where + ".POSITION");
+    if (positions.components() != 3 || !positions.isFloat())
+      fail(path_, positions.where(), "POSITION must be float VEC3");
+    const size_t vertexCount = positions.count();
+    if (vertexCount == 0) return;
+    if (vertexCount * steps.size() > kMaxVertices - totalVertices_)
+      fail(path_, where,
+           "the scene would have more than " + std::to_string(kMaxVertices) + " vertices");
+    totalVertices_ += vertexCount * steps.size();
+
+    const uint32_t base = target.vertexCount;
+    const auto accessorOf = [&](const char* name) {
+      const auto it = prim.attributes.find(name);
+      return it == prim.attributes.end() ? -1 : it->second;
+    };
+    // Positions and normals per step (step-major: a target with steps holds this primitive only).
+    const int normalAccessor = accessorOf("NORMAL");
+    for (const mat4& world : steps) {
       for (size_t v = 0; v < vertexCount; ++v) {
         const glm::vec4 pw =
             world * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
                               float(positions.get(v, 2)), 1.0f);
         if (!std::isfinite(pw.x + pw.y + pw.z))
           fail(path_, positions.where(), "non-finite position");
-        out_.mesh.positions.push_back(vec3(pw));
+        target.positions.push_back(vec3(pw));
       }
-      const auto accessorOf = [&](const char* name) {
-        const auto it = prim.attributes.find(name);
-        return it == prim.attributes.end() ? -1 : it->second;
-      };
-      appendAttribute(accessorOf("NORMAL"), where + ".NORMAL", vertexCount, 3, out_.mesh.normals,
-                      anyNormals_, [&](const AccessorReader& r, size_t v) {
-                        const vec3 n = normalMatrix * vec3(float(r.get(v, 0)), float(r.get(v, 1)),
-                                                           float(r.get(v, 2)));
-                        return n;
+      const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(world));
+      appendAttribute(target, normalAccessor, where + ".NORMAL", vertexCount, 3, target.normals,
+                      anyNormals, [&](const AccessorReader& r, size_t v) {
+                        return normalMatrix *
+                               vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2)));
                       });
-      appendAttribute(accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
-                      out_.mesh.uvs, anyUvs_, [&](const AccessorReader& r, size_t v) {
-                        // glTF's v runs down the image; ours runs up.
-                        return vec2(float(r.get(v, 0)), 1.0f - float(r.get(v, 1)));
-                      });
-      out_.mesh.vertexCount += uint32_t(vertexCount);
+    }
+    appendAttribute(target, accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
+                    target.uvs, anyUvs, [&](const AccessorReader& r, size_t v) {
+                      // glTF's v runs down the image; ours runs up.
+                      return vec2(float(r.get(v, 0)), 1.0f - float(r.get(v, 1)));
+                    });
+    target.vertexCount += uint32_t(vertexCount);
 
-      std::vector<uint32_t> order;
-      if (prim.indices >= 0) {
-        const AccessorReader indices(path_, model_, prim.indices, where + ".indices");
-        if (indices.components() != 1 || indices.isFloat())
-          fail(path_, indices.where(), "indices must be unsigned integer scalars");
-        order.resize(indices.count());
-        for (size_t k = 0; k < order.size(); ++k) {
-          const double i = indices.get(k, 0);
-          if (!(i >= 0 && i < double(vertexCount)))
-            fail(path_, indices.where(),
-                 "index " + std::to_string(int64_t(i)) + " at " + std::to_string(k) +
-                     " is not below the " + std::to_string(vertexCount) + " vertices");
-          order[k] = uint32_t(i);
-        }
-      } else {
-        order.resize(vertexCount);
-        for (size_t k = 0; k < vertexCount; ++k) order[k] = uint32_t(k);
+    std::vector<uint32_t> order;
+    if (prim.indices >= 0) {
+      const AccessorReader indices(path_, model_, prim.indices, where + ".indices");
+      if (indices.components() != 1 || indices.isFloat())
+        fail(path_, indices.where(), "indices must be unsigned integer scalars");
+      order.resize(indices.count());
+      for (size_t k = 0; k < order.size(); ++k) {
+        const double i = indices.get(k, 0);
+        if (!(i >= 0 && i < double(vertexCount)))
+          fail(path_, indices.where(),
+               "index " + std::to_string(int64_t(i)) + " at " + std::to_string(k) +
+                   " is not below the " + std::to_string(vertexCount) + " vertices");
+        order[k] = uint32_t(i);
       }
-      if (order.size() > 3 * kMaxVertices - out_.mesh.indices.size())
+    } else {
+      order.resize(vertexCount);
+      for (size_t k = 0; k < vertexCount; ++k) order[k] = uint32_t(k);
+    }
+    if (order.size() > 3 * (kMaxVertices - totalTriangles_))
+      fail(path_, where,
+           "the scene would have more than " + std::to_string(kMaxVertices) + " triangles");
+    uint32_t materialId;
+    if (prim.material >= 0) {
+      if (size_t(prim.material) >= model_.materials.size())
+        fail(path_, where + ".material",
+             "material " + std::to_string(prim.material) + " does not exist");
+      materialId = uint32_t(prim.material);
+    } else {
+      materialId = defaultMaterial();
+    }
+    const bool mirrored = glm::determinant(glm::mat3(steps.front())) < 0.0f;
+    const auto triangle = [&](uint32_t a, uint32_t b, uint32_t c) {
+      if (a == b || b == c || a == c) return;  // degenerate strip joints
+      if (mirrored) std::swap(b, c);
+      target.indices.insert(target.indices.end(), {base + a, base + b, base + c});
+      target.materialIds.push_back(materialId);
+      ++totalTriangles_;
+    };
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
+      if (order.size() % 3 != 0)
         fail(path_, where,
-             "the scene would have more than " + std::to_string(kMaxVertices) + " triangles");
-      uint32_t materialId;
-      if (prim.material >= 0) {
-        if (size_t(prim.material) >= model_.materials.size())
-          fail(path_, where + ".material",
-               "material " + std::to_string(prim.material) + " does not exist");
-        materialId = uint32_t(prim.material);
-      } else {
-        materialId = defaultMaterial();
-      }
-      const auto triangle = [&](uint32_t a, uint32_t b, uint32_t c) {
-        if (a == b || b == c || a == c) return;  // degenerate strip joints
-        if (mirrored) std::swap(b, c);
-        out_.mesh.indices.insert(out_.mesh.indices.end(), {base + a, base + b, base + c});
-        out_.mesh.materialIds.push_back(materialId);
-      };
-      if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
-        if (order.size() % 3 != 0)
-          fail(path_, where,
-               std::to_string(order.size()) + " indices is not a whole number of triangles");
-        for (size_t k = 0; k + 2 < order.size(); k += 3)
-          triangle(order[k], order[k + 1], order[k + 2]);
-      } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-        for (size_t k = 0; k + 2 < order.size(); ++k)
-          k % 2 == 0 ? triangle(order[k], order[k + 1], order[k + 2])
-                     : triangle(order[k + 1], order[k], order[k + 2]);
-      } else {
-        for (size_t k = 1; k + 1 < order.size(); ++k) triangle(order[0], order[k], order[k + 1]);
-      }
+             std::to_string(order.size()) + " indices is not a whole number of triangles");
+      for (size_t k = 0; k + 2 < order.size(); k += 3)
+        triangle(order[k], order[k + 1], order[k + 2]);
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t k = 0; k + 2 < order.size(); ++k)
+        k % 2 == 0 ? triangle(order[k], order[k + 1], order[k + 2])
+                   : triangle(order[k + 1], order[k], order[k + 2]);
+    } else {
+      for (size_t k = 1; k + 1 < order.size(); ++k) triangle(order[0], order[k], order[k + 1]);
     }
   }
 
   // Appends an optional per-vertex attribute; once one primitive has it, every vertex gets a
   // value (zeros for primitives without, and for the vertices before).
   template <typename T, typename Read>
-  void appendAttribute(int accessor, const std::string& where, size_t vertexCount, int components,
-                       std::vector<T>& values, bool& any, Read&& read) {
+  void appendAttribute(const Mesh& target, int accessor, const std::string& where,
+                       size_t vertexCount, int components, std::vector<T>& values, bool& any,
+                       Read&& read) {
     const bool has = accessor >= 0;
     if (!has && !any) return;
     if (has && !any) {
-      values.assign(out_.mesh.vertexCount, T(0.0f));
+      values.assign(target.vertexCount, T(0.0f));
       any = true;
     }
     if (!has) {
@@ -658,12 +973,16 @@ class Converter {
 
   const std::string& path_;
   const tinygltf::Model& model_;
+  const GltfOptions& options_;
   GltfData& out_;
   std::vector<char> onPath_;
   std::vector<std::pair<int, mat4>> cameraNodes_;
+  std::vector<std::vector<Track>> tracks_;  // per node
+  bool animating_ = false;                  // motion blur over the shutter
   std::set<std::string> warned_;
+  std::map<std::tuple<int, int, float, float, float>, int> textureIds_;
   int defaultMaterial_ = -1;
-  size_t visits_ = 0;
+  size_t visits_ = 0, totalVertices_ = 0, totalTriangles_ = 0;
   // Bounds on what instancing can multiply a small file into (about 2 GB of vertices).
   static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
   static constexpr size_t kMaxVertices = size_t(1) << 26;
@@ -673,6 +992,12 @@ class Converter {
 }  // namespace
 
 GltfData loadGltf(const std::string& path, const std::string& cameraName) {
+  GltfOptions options;
+  options.camera = cameraName;
+  return loadGltf(path, options);
+}
+
+GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   const std::string ext = fs::path(path).extension().string();
   const bool binary = ext == ".glb" || ext == ".GLB";
   const std::string bytes = readFileBytes(path);
@@ -695,13 +1020,16 @@ GltfData loadGltf(const std::string& path, const std::string& cameraName) {
 
   GltfData out;
   out.files = files;
-  Converter convert(path, model, out);
+  Converter convert(path, model, options, out);
   convert.materials();
-  convert.nodes(cameraName);
+  convert.animations();
+  convert.nodes(options.camera);
   convert.warnAboutTheRest();
   out.mesh.name = fs::path(path).stem().string();
-  if (out.mesh.indices.empty()) fail(path, "", "no triangles in the scene");
+  if (out.mesh.indices.empty() && out.animatedMeshes.empty())
+    fail(path, "", "no triangles in the scene");
   repairNormals(out.mesh);
+  for (Mesh& mesh : out.animatedMeshes) repairNormals(mesh);
   return out;
 }
 

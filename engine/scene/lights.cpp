@@ -1,5 +1,7 @@
 #include "scene/lights.h"
 
+#include "scene/textures.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -12,12 +14,69 @@ float triangleArea(vec3 p0, vec3 p1, vec3 p2) {
   return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
 }
 
-float emitterWeight(const Scene& scene, const Mesh& mesh, uint32_t primId) {
-  vec3 p0, p1, p2;
-  trianglePositions(mesh, primId, 0.0f, p0, p1, p2);
-  return triangleArea(p0, p1, p2) * luminance(scene.materials[mesh.materialIds[primId]].emission);
+constexpr float kPi = 3.14159265358979f;
+
+// The mean luminance of a texture over its uv square (1 without a texture): a triangle's
+// choice weight uses it, the radiance itself is the texture's at the sampled point.
+float meanTextureLuminance(const Scene& scene, int texture) {
+  if (texture < 0) return 1.0f;
+  const Texture& t = scene.textures[size_t(texture)];
+  if (t.kind != Texture::Kind::Image) return luminance(0.5f * (t.color0 + t.color1));
+  const Image& image = scene.images[size_t(t.imageIndex)];
+  double sum = 0;
+  for (const vec3& c : image.pixels) sum += double(luminance(c));
+  return image.pixels.empty() ? 0.0f : float(sum / double(image.pixels.size()));
+}
+
+// A punctual light's power over pi, in the units of a triangle's area x luminance.
+double punctualWeight(const PunctualLight& light, float sceneRadius) {
+  const double intensity = luminance(light.intensity);
+  switch (light.kind) {
+    case PunctualLight::Kind::Point:
+      return 4.0 * intensity;
+    case PunctualLight::Kind::Spot:
+      return 2.0 * (1.0 - 0.5 * (double(light.cosInner) + double(light.cosOuter))) * intensity;
+    case PunctualLight::Kind::Directional:
+      return double(sceneRadius) * double(sceneRadius) * intensity;
+  }
+  return 0;
+}
+
+// glTF's spot falloff: full inside the inner cone, none outside the outer, squared ramp between.
+float spotFalloff(const PunctualLight& light, float cosAngle) {
+  const float scale = 1.0f / std::max(1e-3f, light.cosInner - light.cosOuter);
+  const float t = std::clamp((cosAngle - light.cosOuter) * scale, 0.0f, 1.0f);
+  return t * t;
+}
+
+bool samplePunctual(const PunctualLight& light, vec3 reference, LightSample& out) {
+  out.delta = true;
+  out.normal = vec3(0.0f);
+  if (light.kind == PunctualLight::Kind::Directional) {
+    out.wi = -light.direction;
+    out.distance = INFINITY;
+    out.point = reference + out.wi;
+    out.radiance = light.intensity;
+    return true;
+  }
+  const vec3 toLight = light.position - reference;
+  const float dist2 = glm::dot(toLight, toLight);
+  if (!(dist2 > 0)) return false;
+  out.distance = std::sqrt(dist2);
+  out.wi = toLight / out.distance;
+  out.point = light.position;
+  out.radiance = light.intensity / dist2;
+  if (light.kind == PunctualLight::Kind::Spot)
+    out.radiance *= spotFalloff(light, -glm::dot(out.wi, light.direction));
+  return out.radiance.x > 0 || out.radiance.y > 0 || out.radiance.z > 0;
 }
 }  // namespace
+
+vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv) {
+  if (material.emissionTexture < 0) return material.emission;
+  return material.emission *
+         evalTexture(scene, scene.textures[size_t(material.emissionTexture)], uv);
+}
 
 void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1,
                        vec3& p2) {
@@ -32,13 +91,33 @@ LightSampler buildLightSampler(const Scene& scene) {
   ls.triangleProbability.resize(scene.meshes.size());
   std::vector<double> weights;
   double sum = 0;
+  std::vector<float> textureMean(scene.materials.size(), -1.0f);
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-      if (!scene.materials[mesh.materialIds[t]].isEmissive()) continue;
-      const double w = emitterWeight(scene, mesh, t);
+      const uint32_t id = mesh.materialIds[t];
+      const Material& material = scene.materials[id];
+      if (!material.isEmissive()) continue;
+      if (textureMean[id] < 0)
+        textureMean[id] = meanTextureLuminance(scene, material.emissionTexture);
+      vec3 p0, p1, p2;
+      trianglePositions(mesh, t, 0.0f, p0, p1, p2);
+      double w = triangleArea(p0, p1, p2) * luminance(material.emission);
+      if (material.emissionTexture >= 0) w *= double(textureMean[id]);
       if (!(w > 0) || !std::isfinite(w)) continue;
       ls.emitters.push_back({m, t, 0.0f});
+      weights.push_back(w);
+      sum += w;
+    }
+  }
+  if (!scene.lights.empty()) {
+    vec3 lo, hi;
+    sceneBounds(scene, lo, hi);
+    const float radius = lo.x <= hi.x ? 0.5f * glm::length(hi - lo) : 1.0f;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      const double w = punctualWeight(scene.lights[i], radius);
+      if (!(w > 0) || !std::isfinite(w)) continue;
+      ls.emitters.push_back({0, 0, 0.0f, int(i)});
       weights.push_back(w);
       sum += w;
     }
@@ -49,6 +128,7 @@ LightSampler buildLightSampler(const Scene& scene) {
     e.probability = float(weights[i] / sum);
     running += weights[i];
     ls.cdf.push_back(float(running / sum));
+    if (e.punctual >= 0) continue;
     auto& perTriangle = ls.triangleProbability[e.meshId];
     if (perTriangle.empty()) perTriangle.assign(scene.meshes[e.meshId].triangleCount(), 0.0f);
     perTriangle[e.primId] = e.probability;
@@ -63,6 +143,11 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   const size_t i =
       size_t(std::upper_bound(lights.cdf.begin(), lights.cdf.end(), uChoose) - lights.cdf.begin());
   const auto& e = lights.emitters[std::min(i, lights.emitters.size() - 1)];
+  if (e.punctual >= 0) {
+    if (!samplePunctual(scene.lights[size_t(e.punctual)], reference, out)) return false;
+    out.pdf = e.probability;
+    return true;
+  }
   const Mesh& mesh = scene.meshes[e.meshId];
   vec3 p0, p1, p2;
   trianglePositions(mesh, e.primId, time, p0, p1, p2);
@@ -79,7 +164,18 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   const float cosLight = -glm::dot(out.normal, toLight) / std::sqrt(dist2);
   if (!(cosLight > 0) || !(dist2 > 0)) return false;  // back side does not emit
   out.pdf = e.probability * dist2 / (0.5f * doubleArea * cosLight);
-  out.radiance = scene.materials[mesh.materialIds[e.primId]].emission;
+  out.distance = std::sqrt(dist2);
+  out.wi = toLight / out.distance;
+  out.delta = false;
+  const Material& material = scene.materials[mesh.materialIds[e.primId]];
+  if (material.emissionTexture >= 0 && !mesh.uvs.empty()) {
+    const uint32_t* idx = &mesh.indices[3 * size_t(e.primId)];
+    const glm::vec2 uv =
+        b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + (1 - b0 - b1) * mesh.uvs[idx[2]];
+    out.radiance = emittedRadiance(scene, material, uv);
+  } else {
+    out.radiance = emittedRadiance(scene, material, glm::vec2(0.0f));
+  }
   return std::isfinite(out.pdf);
 }
 

@@ -1,6 +1,10 @@
-// Area lights: every triangle whose material emits. Triangles are chosen in proportion
-// to area (at time 0) times emitted luminance, then sampled uniformly in area at the
-// ray's time, so moving emitters light the scene where they are.
+// Lights for next-event estimation: every triangle whose material emits (area lights), and
+// the scene's punctual lights. One light is chosen in proportion to its power: a triangle's
+// area (at time 0) times its emitted luminance (times its emission texture's mean), a
+// punctual light's luminous intensity times its cone's solid angle (a directional light's
+// illuminance times the scene's cross-section), both divided by pi. A triangle is then
+// sampled uniformly in area at the ray's time, so moving emitters light the scene where they
+// are; a punctual light has one point (or direction).
 #pragma once
 
 #include "scene/scene.h"
@@ -13,7 +17,8 @@ namespace penumbra {
 struct LightSampler {
   struct Emitter {
     uint32_t meshId, primId;
-    float probability;  // of choosing this triangle
+    float probability;  // of choosing this light
+    int punctual = -1;  // index into Scene::lights; -1: the triangle (meshId, primId)
   };
   std::vector<Emitter> emitters;
   std::vector<float> cdf;  // normalised, cdf.back() == 1
@@ -30,10 +35,18 @@ LightSampler buildLightSampler(const Scene& scene);
 void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1, vec3& p2);
 
 struct LightSample {
-  vec3 point, normal;  // normal: the emitting (counter-clockwise) side
-  vec3 radiance;       // emitted towards the reference point (0 if it sees the back)
-  float pdf = 0;       // solid angle at the reference point
+  vec3 point, normal;  // area lights: normal on the emitting (counter-clockwise) side
+  vec3 wi;             // unit direction from the reference point towards the light
+  float distance = 0;  // to the light; infinite for a directional light
+  vec3 radiance;       // emitted towards the reference point; punctual lights: the irradiance
+                       // it gives on a surface facing it (intensity / distance^2, cone applied)
+  float pdf = 0;       // area lights: solid angle at the reference point; punctual lights:
+                       // the probability of choosing it
+  bool delta = false;  // a punctual light: no BSDF sample can reach it, so no MIS
 };
+
+// Radiance a material emits at texture coordinate uv (its emission times its texture).
+vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv);
 
 bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference, float time,
                  float uChoose, glm::vec2 uTriangle, LightSample& out);

@@ -43,6 +43,17 @@ vec3 schlick(vec3 f0, float cosTheta) {
   return f0 + (vec3(1.0f) - f0) * m5;
 }
 
+vec3 conductorEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  const vec3 h = glm::normalize(wo + wi);
+  const float d = ggxD(h, b.alpha), g = ggxG(wo, wi, b.alpha);
+  return schlick(b.color, glm::dot(wi, h)) * (d * g / (4.0f * wo.z));
+}
+
+float conductorPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  const vec3 h = glm::normalize(wo + wi);
+  return ggxD(h, b.alpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
+}
+
 // Local-space (n = +z) helpers. Diffuse and conductor are two-sided: wo below the
 // surface is handled by mirroring both directions to the upper side.
 vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
@@ -54,10 +65,13 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   switch (b.type) {
     case Material::Type::Diffuse:
       return b.color * (kInvPi * wi.z);
-    case Material::Type::Conductor: {
-      const vec3 h = glm::normalize(wo + wi);
-      const float d = ggxD(h, b.alpha), g = ggxG(wo, wi, b.alpha);
-      return schlick(b.color, glm::dot(wi, h)) * (d * g / (4.0f * wo.z));
+    case Material::Type::Conductor:
+      return conductorEval(b, wo, wi);
+    case Material::Type::Pbr: {
+      vec3 f(0.0f);
+      if (b.diffuseWeight > 0) f += b.diffuseWeight * b.color * (kInvPi * wi.z);
+      if (b.conductorWeight > 0) f += b.conductorWeight * conductorEval(b, wo, wi);
+      return f;
     }
     default:
       return vec3(0.0f);
@@ -73,13 +87,48 @@ float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   switch (b.type) {
     case Material::Type::Diffuse:
       return wi.z * kInvPi;
-    case Material::Type::Conductor: {
-      const vec3 h = glm::normalize(wo + wi);
-      return ggxD(h, b.alpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
+    case Material::Type::Conductor:
+      return conductorPdf(b, wo, wi);
+    case Material::Type::Pbr: {
+      float pdf = 0;
+      if (b.diffuseWeight > 0) pdf += b.diffuseWeight * wi.z * kInvPi;
+      if (b.conductorWeight > 0) pdf += b.conductorWeight * conductorPdf(b, wo, wi);
+      return pdf;
     }
     default:
       return 0;
   }
+}
+
+// A GGX half vector drawn from D(h) cos(theta_h) on the side of wo.
+vec3 sampleGgxHalfVector(float alpha, glm::vec2 u, float side) {
+  const float a2 = alpha * alpha;
+  const float cos2 = (1.0f - u.x) / (1.0f + (a2 - 1.0f) * u.x);
+  const float cosT = std::sqrt(std::max(0.0f, cos2)), sinT = std::sqrt(std::max(0.0f, 1.0f - cos2));
+  const float phi = 2.0f * kPi * u.y;
+  return vec3(sinT * std::cos(phi), sinT * std::sin(phi), side * cosT);
+}
+
+// Smooth dielectric: reflection with the Fresnel probability, refraction otherwise.
+void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) {
+  const float f = fresnelDielectric(wo.z, b.ior);
+  out.specular = true;
+  out.pdf = 0;
+  if (uc < f) {
+    out.wi = b.frame.toWorld(vec3(-wo.x, -wo.y, wo.z));
+    out.weight = vec3(1.0f);
+    return;
+  }
+  // Refraction; eta relative to the side wo is on.
+  const float side = wo.z > 0 ? 1.0f : -1.0f;
+  const float eta = wo.z > 0 ? 1.0f / b.ior : b.ior;  // n_from / n_to
+  const float cosI = std::abs(wo.z);
+  const float sin2T = eta * eta * (1.0f - cosI * cosI);
+  const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
+  const vec3 wi(-eta * wo.x, -eta * wo.y, -side * cosT);
+  out.wi = glm::normalize(b.frame.toWorld(wi));
+  // Radiance is compressed by (n_from/n_to)^2 when crossing into the denser medium.
+  out.weight = vec3(eta * eta);
 }
 }  // namespace
 
@@ -137,13 +186,7 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       break;
     case Material::Type::Conductor: {
       // Sample D(h) cos(theta_h), reflect wo about h.
-      const float a2 = b.alpha * b.alpha;
-      const float cos2 = (1.0f - u.x) / (1.0f + (a2 - 1.0f) * u.x);
-      const float cosT = std::sqrt(std::max(0.0f, cos2)),
-                  sinT = std::sqrt(std::max(0.0f, 1.0f - cos2));
-      const float phi = 2.0f * kPi * u.y;
-      vec3 h(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
-      h.z *= side;
+      const vec3 h = sampleGgxHalfVector(b.alpha, u, side);
       wi = 2.0f * glm::dot(wo, h) * h - wo;
       if (wi.z * wo.z <= 0) return false;
       break;
@@ -154,25 +197,29 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       out.pdf = 0;
       out.specular = true;
       return true;
-    case Material::Type::Dielectric: {
-      const float f = fresnelDielectric(wo.z, b.ior);
-      out.specular = true;
-      out.pdf = 0;
-      if (uc < f) {
-        out.wi = b.frame.toWorld(vec3(-wo.x, -wo.y, wo.z));
-        out.weight = vec3(1.0f);
+    case Material::Type::Dielectric:
+      sampleDielectric(b, wo, uc, out);
+      return true;
+    case Material::Type::Pbr: {
+      // uc picks the part, then is stretched back onto [0,1) for the part's own choice.
+      if (uc < b.dielectricWeight) {
+        sampleDielectric(b, wo, uc / b.dielectricWeight, out);
+        // Transmission is tinted by the base colour (glTF's KHR_materials_transmission).
+        if (glm::dot(out.wi, b.frame.n) * wo.z < 0) out.weight *= b.color;
         return true;
       }
-      // Refraction; eta relative to the side wo is on.
-      const float eta = wo.z > 0 ? 1.0f / b.ior : b.ior;  // n_from / n_to
-      const float cosI = std::abs(wo.z);
-      const float sin2T = eta * eta * (1.0f - cosI * cosI);
-      const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
-      wi = vec3(-eta * wo.x, -eta * wo.y, -side * cosT);
-      out.wi = glm::normalize(b.frame.toWorld(wi));
-      // Radiance is compressed by (n_from/n_to)^2 when crossing into the denser medium.
-      out.weight = vec3(eta * eta);
-      return true;
+      const float rest = b.diffuseWeight + b.conductorWeight;
+      if (!(rest > 0)) return false;
+      const float v = std::min((uc - b.dielectricWeight) / rest, 0.99999994f);
+      if (v < b.conductorWeight / rest) {
+        const vec3 h = sampleGgxHalfVector(b.alpha, u, side);
+        wi = 2.0f * glm::dot(wo, h) * h - wo;
+        if (wi.z * wo.z <= 0) return false;
+      } else {
+        wi = cosineHemisphere(u);
+        wi.z *= side;
+      }
+      break;  // weighted by the mix's f / pdf below: one-sample MIS over the parts
     }
   }
   const vec3 f = evalLocal(b, wo, wi);

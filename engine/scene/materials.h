@@ -1,5 +1,6 @@
-// BSDFs of the five material kinds: Lambertian diffuse, rough conductor (GGX
-// microfacets, Smith shadowing, Schlick Fresnel), ideal mirror, smooth dielectric.
+// BSDFs of the material kinds: Lambertian diffuse, rough conductor (GGX microfacets, Smith
+// shadowing, Schlick Fresnel), ideal mirror, smooth dielectric, and Pbr: a mix of diffuse,
+// conductor and dielectric by weight, sampled by picking one part by its weight.
 // Emission is a property of any material (Material::emission). Directions are in
 // world space; wo points away from the surface towards the previous vertex.
 #pragma once
@@ -22,11 +23,19 @@ struct SurfaceBsdf {
   vec3 color = vec3(0.8f);  // diffuse albedo or specular tint
   float alpha = 0.04f;      // GGX alpha (conductor)
   float ior = 1.5f;
+  // Pbr: the parts' weights (sum 1). Evaluation and the pdf cover the diffuse and conductor
+  // parts (the dielectric one is specular).
+  float diffuseWeight = 0, conductorWeight = 0, dielectricWeight = 0;
   ShadingFrame frame;
   vec3 geometricNormal;  // unit, the triangle's counter-clockwise normal
 
   bool isSpecular() const {
-    return type == Material::Type::Mirror || type == Material::Type::Dielectric;
+    return type == Material::Type::Mirror || type == Material::Type::Dielectric ||
+           (type == Material::Type::Pbr && !(diffuseWeight + conductorWeight > 0));
+  }
+  // Whether sampling draws a number to choose a lobe (reflect or refract, or a Pbr part).
+  bool choosesLobe() const {
+    return type == Material::Type::Dielectric || type == Material::Type::Pbr;
   }
 };
 
@@ -40,7 +49,8 @@ struct BsdfSample {
 // f(wo, wi) * |cos(n, wi)|; zero for specular materials.
 vec3 evalBsdfCos(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
 float bsdfPdf(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
-// u2 picks the direction, u1 picks between reflection and refraction.
+// u2 picks the direction, u1 picks between reflection and refraction (and first, for Pbr,
+// the part).
 bool sampleBsdf(const SurfaceBsdf& bsdf, vec3 wo, glm::vec2 u2, float u1, BsdfSample& out);
 
 // Fresnel reflectance of a dielectric interface for cosThetaI (signed: negative means

@@ -54,7 +54,10 @@ struct Texture {
 };
 
 struct Material {
-  enum class Type { Diffuse, Conductor, Mirror, Dielectric };
+  // Pbr is glTF's metallic-roughness model: a GGX conductor of weight `metallic` tinted by
+  // the base colour over a dielectric base that is glass with weight `transmission` and
+  // diffuse otherwise; a path picks one part by weight (docs/scene-format.md).
+  enum class Type { Diffuse, Conductor, Mirror, Dielectric, Pbr };
   Type type = Type::Diffuse;
   std::string name;
   int albedoTexture = -1;      // Diffuse: index into Scene::textures; -1 uses `albedo`
@@ -62,7 +65,31 @@ struct Material {
   float roughness = 0.2f;      // Conductor: GGX alpha = roughness^2
   float ior = 1.5f;            // Dielectric index of refraction
   vec3 emission = vec3(0.0f);  // radiance emitted on the front side (CCW normal)
+  float metallic = 0.0f;       // Pbr: weight of the conductor
+  float transmission = 0.0f;   // Pbr: share of glass in the non-metallic part
+  int emissionTexture = -1;    // multiplies `emission`; -1: uniform
+  int normalTexture = -1;      // tangent-space normal map (linear, +y along +v); -1: none
+  float normalScale = 1.0f;    // scales the map's x and y
+  int alphaTexture = -1;       // cut-out: coverage in the texture's first channel; -1: none
+  float alpha = 1.0f;          // coverage factor (times the texture's)
+  float alphaCutoff = -1.0f;   // coverage below it is a hole; negative: opaque
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+  bool hasCutouts() const { return alphaCutoff >= 0.0f; }
+};
+
+// A light that is a point or a direction (glTF's KHR_lights_punctual): it cannot be hit by a
+// ray, only sampled by next-event estimation. Units follow glTF: `intensity` is luminous
+// intensity (candela) for point and spot lights and illuminance (lux) for directional ones,
+// in the same units as emitted radiance (nits): a point light of intensity I at distance d
+// gives the irradiance I / d^2.
+struct PunctualLight {
+  enum class Kind { Point, Spot, Directional };
+  Kind kind = Kind::Point;
+  std::string name;
+  vec3 position = vec3(0.0f);
+  vec3 direction = vec3(0.0f, 0.0f, -1.0f);   // unit; where the light shines (spot, directional)
+  vec3 intensity = vec3(1.0f);                // colour times intensity
+  float cosInner = 1.0f, cosOuter = 0.7071f;  // spot cone: full inside, none outside
 };
 
 struct RenderSettings {
@@ -78,6 +105,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Image> images;
+  std::vector<PunctualLight> lights;
   vec3 background = vec3(0.0f);
   Camera camera;
   RenderSettings settings;

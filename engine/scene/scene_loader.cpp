@@ -207,13 +207,18 @@ int readTexture(const Reader& r, const Json& node, const std::string& f, Scene& 
 
 Material readMaterial(const Reader& r, const Json& node, const std::string& f,
                       const std::map<std::string, int>& textures) {
-  r.checkKeys(node, f, {"type", "albedo", "color", "roughness", "ior", "emission", "radiance"});
+  r.checkKeys(node, f,
+              {"type", "albedo", "color", "roughness", "ior", "emission", "radiance", "metallic",
+               "transmission"});
   if (!node.contains("type"))
-    r.fail(f, "missing field 'type' (diffuse, conductor, mirror, dielectric, emissive)");
+    r.fail(f, "missing field 'type' (diffuse, conductor, mirror, dielectric, emissive, pbr)");
   const std::string type = r.string(node["type"], f + ".type");
-  Material m;
-  if (type == "diffuse") {
-    m.type = Material::Type::Diffuse;
+  const auto unit = [&](const char* key, float fallback) {
+    const float v = r.number(node, f, key, fallback);
+    if (!(v >= 0 && v <= 1)) r.fail(f + "." + key, "expected a value in [0, 1]");
+    return v;
+  };
+  const auto albedo = [&](Material& m) {
     if (node.contains("albedo") && node["albedo"].is_string()) {
       const std::string name = node["albedo"].get<std::string>();
       const auto it = textures.find(name);
@@ -222,6 +227,19 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
     } else {
       m.albedo = r.color(node, f, "albedo", m.albedo);
     }
+  };
+  Material m;
+  if (type == "diffuse") {
+    m.type = Material::Type::Diffuse;
+    albedo(m);
+  } else if (type == "pbr") {
+    // glTF's metallic-roughness model (docs/scene-format.md).
+    m.type = Material::Type::Pbr;
+    albedo(m);
+    m.metallic = unit("metallic", 0.0f);
+    m.roughness = std::max(unit("roughness", 0.5f), 0.02f);
+    m.transmission = unit("transmission", 0.0f);
+    m.ior = r.positive(node, f, "ior", 1.5f);
   } else if (type == "conductor" || type == "mirror") {
     m.type = type == "mirror" ? Material::Type::Mirror : Material::Type::Conductor;
     m.albedo = r.color(node, f, "color", vec3(0.9f));
@@ -238,7 +256,7 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
     m.emission = r.color(node, f, "radiance", vec3(0.0f));
   } else {
     r.fail(f + ".type", "unknown material type '" + type +
-                            "' (expected diffuse, conductor, mirror, dielectric, emissive)");
+                            "' (expected diffuse, conductor, mirror, dielectric, emissive, pbr)");
   }
   if (node.contains("emission")) m.emission = r.color(node, f, "emission", vec3(0.0f));
   return m;
@@ -304,10 +322,17 @@ int appendGltfTextures(Scene& scene, GltfData& gltf) {
   return textureOffset;
 }
 
-// Object-space geometry of one object: a built-in shape or a mesh file.
+// Moves a texture id of a glTF file's material into the scene's numbering.
+void offsetTextures(Material& m, int offset) {
+  for (int* id : {&m.albedoTexture, &m.emissionTexture, &m.normalTexture, &m.alphaTexture})
+    if (*id >= 0) *id += offset;
+}
+
+// Object-space geometry of one object: a built-in shape or a mesh file (with the materials and
+// punctual lights a file brings).
 Mesh readShape(const Reader& r, const Json& node, const std::string& f, const std::string& shape,
-               Scene& scene, std::vector<Material>& objMaterials,
-               std::vector<std::string>& objMaps) {
+               Scene& scene, std::vector<Material>& objMaterials, std::vector<std::string>& objMaps,
+               std::vector<PunctualLight>& objLights) {
   try {
     if (shape == "sphere")
       return makeSphere(r.positive(node, f, "radius", 1.0f),
@@ -347,13 +372,15 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
         return std::move(obj.mesh);
       }
       if (ext == ".gltf" || ext == ".glb") {
-        GltfData gltf = loadGltf(path);
+        GltfOptions options;
+        options.animate = false;  // the object moves by its own "motion"
+        GltfData gltf = loadGltf(path, options);
         scene.sourceFiles.insert(scene.sourceFiles.end(), gltf.files.begin(), gltf.files.end());
         const int textureOffset = appendGltfTextures(scene, gltf);
-        for (Material& m : gltf.materials)
-          if (m.albedoTexture >= 0) m.albedoTexture += textureOffset;
+        for (Material& m : gltf.materials) offsetTextures(m, textureOffset);
         for (const std::string& w : gltf.warnings) scene.warnings.push_back(path + ": " + w);
         objMaterials = std::move(gltf.materials);
+        objLights = std::move(gltf.lights);
         return std::move(gltf.mesh);
       }
       r.fail(f + ".file",
@@ -400,7 +427,8 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
   const std::string shape = r.string(node["shape"], f + ".shape");
   std::vector<Material> objMaterials;
   std::vector<std::string> objMaps;
-  Mesh mesh = readShape(r, node, f, shape, scene, objMaterials, objMaps);
+  std::vector<PunctualLight> objLights;
+  Mesh mesh = readShape(r, node, f, shape, scene, objMaterials, objMaps, objLights);
   mesh.name = node.contains("name") ? r.string(node["name"], f + ".name") : shape;
 
   if (node.contains("material_overrides") && (node.contains("material") || objMaterials.empty()))
@@ -464,6 +492,46 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
                               std::to_string(motionTimeSteps(motion)) +
                               " time steps is too large; use fewer segments or time_steps");
   scene.meshes.push_back(placeMesh(mesh, base, motion));
+  // An included file's lights go where the object's transform puts them (at rest).
+  for (PunctualLight light : objLights) {
+    light.position = vec3(base * glm::vec4(light.position, 1.0f));
+    light.direction = glm::normalize(glm::mat3(base) * light.direction);
+    scene.lights.push_back(light);
+  }
+}
+
+// A punctual light: {"type": "point" | "spot" | "directional", "position", "direction",
+// "color", "intensity", "inner_angle", "outer_angle"} (angles in degrees, as glTF's cones).
+PunctualLight readLight(const Reader& r, const Json& node, const std::string& f) {
+  r.checkKeys(node, f,
+              {"name", "type", "position", "direction", "color", "intensity", "inner_angle",
+               "outer_angle"});
+  if (!node.contains("type")) r.fail(f, "missing field 'type' (point, spot, directional)");
+  const std::string type = r.string(node["type"], f + ".type");
+  PunctualLight light;
+  if (type == "point")
+    light.kind = PunctualLight::Kind::Point;
+  else if (type == "spot")
+    light.kind = PunctualLight::Kind::Spot;
+  else if (type == "directional")
+    light.kind = PunctualLight::Kind::Directional;
+  else
+    r.fail(f + ".type", "unknown light type '" + type + "' (expected point, spot, directional)");
+  light.name = node.contains("name") ? r.string(node["name"], f + ".name") : f;
+  light.position = r.vector3(node, f, "position", vec3(0.0f));
+  const vec3 direction = r.vector3(node, f, "direction", vec3(0.0f, -1.0f, 0.0f));
+  if (!(glm::length(direction) > 1e-8f)) r.fail(f + ".direction", "direction is zero");
+  light.direction = glm::normalize(direction);
+  const float intensity = r.number(node, f, "intensity", 1.0f);
+  if (!(intensity >= 0)) r.fail(f + ".intensity", "must not be negative");
+  light.intensity = r.color(node, f, "color", vec3(1.0f)) * intensity;
+  const float inner = r.number(node, f, "inner_angle", 0.0f);
+  const float outer = r.number(node, f, "outer_angle", 45.0f);
+  if (!(inner >= 0 && inner <= outer && outer <= 90))
+    r.fail(f + ".outer_angle", "expected 0 <= inner_angle <= outer_angle <= 90 degrees");
+  light.cosInner = std::cos(glm::radians(inner));
+  light.cosOuter = std::cos(glm::radians(outer));
+  return light;
 }
 
 std::string lineAndColumn(const std::string& text, size_t byte) {
@@ -508,7 +576,8 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
   scene.sourcePath = path;
   scene.sourceFiles.push_back(path);
   const Reader r(path, baseDir, scene.sourceFiles);
-  r.checkKeys(root, "", {"render", "camera", "background", "textures", "materials", "objects"});
+  r.checkKeys(root, "",
+              {"render", "camera", "background", "textures", "materials", "objects", "lights"});
   if (root.contains("render")) readRender(r, root["render"], scene.settings);
   if (root.contains("camera")) readCamera(r, root["camera"], scene.camera);
   scene.background = r.color(root, "", "background", vec3(0.0f));
@@ -532,6 +601,11 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
   const Json& objects = root["objects"];
   for (size_t i = 0; i < objects.size(); ++i)
     readObject(r, objects[i], Reader::index("objects", i), scene, materials);
+  if (root.contains("lights")) {
+    if (!root["lights"].is_array()) r.fail("lights", "expected an array of lights");
+    for (size_t i = 0; i < root["lights"].size(); ++i)
+      scene.lights.push_back(readLight(r, root["lights"][i], Reader::index("lights", i)));
+  }
   return scene;
 }
 
@@ -551,15 +625,21 @@ Scene sceneFromObj(const std::string& path) {
   return scene;
 }
 
-Scene sceneFromGltf(const std::string& path, const std::string& cameraName) {
-  GltfData gltf = loadGltf(path, cameraName);
+Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options) {
+  GltfOptions gltfOptions;
+  gltfOptions.camera = options.camera;
+  gltfOptions.frameTime = options.frameTime;
+  gltfOptions.shutterSeconds = options.shutterSeconds;
+  GltfData gltf = loadGltf(path, gltfOptions);
   Scene scene;
   scene.sourcePath = path;
   scene.sourceFiles.push_back(path);
   scene.sourceFiles.insert(scene.sourceFiles.end(), gltf.files.begin(), gltf.files.end());
   appendGltfTextures(scene, gltf);
   scene.materials = std::move(gltf.materials);
-  scene.meshes.push_back(std::move(gltf.mesh));
+  if (!gltf.mesh.indices.empty()) scene.meshes.push_back(std::move(gltf.mesh));
+  for (Mesh& mesh : gltf.animatedMeshes) scene.meshes.push_back(std::move(mesh));
+  scene.lights = std::move(gltf.lights);
   for (const std::string& w : gltf.warnings) scene.warnings.push_back(path + ": " + w);
   if (gltf.hasCamera)
     scene.camera = gltf.camera;
@@ -573,8 +653,12 @@ Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   if (!options.camera.empty() && ext != ".gltf" && ext != ".glb")
     throw SceneError(path + ": --camera picks a camera of a glTF scene; this is a '" + ext +
                      "' file");
+  if (options.frameTime && ext != ".gltf" && ext != ".glb")
+    throw SceneError(path +
+                     ": --frame-time picks a moment of a glTF scene's animation; this is a '" +
+                     ext + "' file");
   if (ext == ".obj") return sceneFromObj(path);
-  if (ext == ".gltf" || ext == ".glb") return sceneFromGltf(path, options.camera);
+  if (ext == ".gltf" || ext == ".glb") return sceneFromGltf(path, options);
   if (ext != ".json")
     throw SceneError(path + ": unsupported scene format '" + ext +
                      "' (expected .json, .gltf, .glb or .obj)");

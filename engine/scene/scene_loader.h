@@ -5,12 +5,17 @@
 
 #include "scene/scene.h"
 
+#include <optional>
 #include <string>
 
 namespace penumbra {
 
 struct SceneLoadOptions {
   std::string camera;  // glTF: the camera (node or camera name) to view from; empty = first
+  // glTF animation: seconds into it at which the shutter opens (default: its start), and how
+  // long the shutter stays open (scene time [0, 1] spans that interval).
+  std::optional<double> frameTime;
+  double shutterSeconds = 1.0 / 48.0;
 };
 
 // Loads a .json scene, a .gltf / .glb scene (its first perspective camera, or the one named
@@ -21,8 +26,8 @@ Scene loadScene(const std::string& path, const SceneLoadOptions& options = {});
 Scene parseSceneJson(const std::string& text, const std::string& path, const std::string& baseDir);
 // Wraps an OBJ (with its MTL) as a scene.
 Scene sceneFromObj(const std::string& path);
-// Wraps a glTF file as a scene.
-Scene sceneFromGltf(const std::string& path, const std::string& cameraName = "");
+// Wraps a glTF file as a scene (its camera, lights and animation as options say).
+Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options = {});
 
 // Points the camera at the scene's bounding box from the front (+z side, slightly above).
 void frameCamera(Scene& scene);

@@ -4,7 +4,6 @@
 
 namespace penumbra {
 
-namespace {
 vec3 sampleImageBilinear(const Image& image, vec2 uv) {
   // uv (0,0) is the bottom-left corner of the image; rows are stored top first.
   const float x = (uv.x - std::floor(uv.x)) * image.width - 0.5f;
@@ -20,7 +19,6 @@ vec3 sampleImageBilinear(const Image& image, vec2 uv) {
   return (1 - ty) * ((1 - tx) * texel(ix, iy) + tx * texel(ix + 1, iy)) +
          ty * ((1 - tx) * texel(ix, iy + 1) + tx * texel(ix + 1, iy + 1));
 }
-}  // namespace
 
 vec3 evalTexture(const Scene& scene, const Texture& texture, vec2 uv) {
   switch (texture.kind) {

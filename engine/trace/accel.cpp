@@ -1,11 +1,13 @@
 #include "trace/accel.h"
 
 #include "scene/scene.h"
+#include "scene/textures.h"
 
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -14,10 +16,51 @@
 
 namespace penumbra {
 
+namespace {
+// What a mesh with cut-out materials needs to test a hit's coverage, copied out of the scene so
+// that the acceleration structure stands alone (views share it while scenes come and go).
+struct CutoutMesh {
+  struct Coverage {
+    float alpha = 1.0f, cutoff = -1.0f;
+    int image = -1;  // into Accel::Impl::cutoutImages; -1: the factor alone
+  };
+  std::vector<uint32_t> indices;
+  std::vector<vec2> uvs;
+  std::vector<uint32_t> materialIds;
+  std::vector<Coverage> coverage;  // per material id of the scene
+  const std::vector<Image>* images = nullptr;
+
+  // A hole: the material's coverage at the hit's uv is below its cutoff.
+  bool isHole(uint32_t prim, float u, float v) const {
+    const Coverage& c = coverage[materialIds[prim]];
+    if (c.cutoff < 0) return false;
+    float a = c.alpha;
+    if (c.image >= 0 && !uvs.empty()) {
+      const uint32_t* idx = &indices[3 * size_t(prim)];
+      const vec2 uv = (1 - u - v) * uvs[idx[0]] + u * uvs[idx[1]] + v * uvs[idx[2]];
+      a *= sampleImageBilinear((*images)[size_t(c.image)], uv).x;
+    }
+    return a < c.cutoff;
+  }
+};
+
+void cutoutFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* mesh = static_cast<const CutoutMesh*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (mesh->isHole(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                     RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+}  // namespace
+
 struct Accel::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::string firstError;  // Embree reports through a C callback: remember, throw later
+  std::vector<std::unique_ptr<CutoutMesh>> cutouts;
+  std::vector<Image> cutoutImages;
 };
 
 namespace {
@@ -51,6 +94,7 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   rtcSetDeviceErrorFunction(impl_->device, recordEmbreeError, impl_.get());
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  std::vector<int> alphaImages(scene.textures.size(), -1);  // texture -> cutoutImages
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     if (mesh.triangleCount() == 0) continue;
@@ -68,12 +112,44 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()) {
         rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                 3 * sizeof(uint32_t), mesh.triangleCount()));
     std::memcpy(indices, mesh.indices.data(), sizeof(uint32_t) * mesh.indices.size());
+    if (std::any_of(mesh.materialIds.begin(), mesh.materialIds.end(),
+                    [&](uint32_t id) { return scene.materials[id].hasCutouts(); })) {
+      rtcSetGeometryUserData(geom, addCutouts(scene, mesh, alphaImages));
+      rtcSetGeometryIntersectFilterFunction(geom, cutoutFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, cutoutFilter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(impl_->scene, geom, unsigned(m));
     rtcReleaseGeometry(geom);
   }
   rtcCommitScene(impl_->scene);
   if (!impl_->firstError.empty()) throw std::runtime_error(impl_->firstError);
+}
+
+void* Accel::addCutouts(const Scene& scene, const Mesh& mesh, std::vector<int>& alphaImages) {
+  auto cut = std::make_unique<CutoutMesh>();
+  cut->indices = mesh.indices;
+  cut->uvs = mesh.uvs;
+  cut->materialIds = mesh.materialIds;
+  cut->coverage.resize(scene.materials.size());
+  for (size_t id = 0; id < scene.materials.size(); ++id) {
+    const Material& m = scene.materials[id];
+    CutoutMesh::Coverage& c = cut->coverage[id];
+    if (!m.hasCutouts()) continue;
+    c.alpha = m.alpha;
+    c.cutoff = m.alphaCutoff;
+    if (m.alphaTexture < 0) continue;
+    int& image = alphaImages[size_t(m.alphaTexture)];
+    const Texture& t = scene.textures[size_t(m.alphaTexture)];
+    if (image < 0 && t.kind == Texture::Kind::Image) {
+      impl_->cutoutImages.push_back(scene.images[size_t(t.imageIndex)]);
+      image = int(impl_->cutoutImages.size() - 1);
+    }
+    c.image = image;
+  }
+  cut->images = &impl_->cutoutImages;
+  impl_->cutouts.push_back(std::move(cut));
+  return impl_->cutouts.back().get();
 }
 
 Accel::~Accel() {

@@ -1,5 +1,6 @@
 // Ray queries on Embree 3: one triangle geometry per scene mesh (geometry ID = mesh
-// index), with Embree's linear motion blur over the mesh's vertex time steps.
+// index), with Embree's linear motion blur over the mesh's vertex time steps. Meshes with
+// cut-out materials (alpha masks) get a filter that lets rays through the holes.
 #pragma once
 
 #include "scene/camera.h"
@@ -11,6 +12,7 @@
 namespace penumbra {
 
 struct Scene;
+struct Mesh;
 
 struct Hit {
   float t = 0;
@@ -37,6 +39,8 @@ class Accel {
   struct Impl;
 
  private:
+  // Copies what the cut-out filter of `mesh` needs; returns its user data for Embree.
+  void* addCutouts(const Scene& scene, const Mesh& mesh, std::vector<int>& alphaImages);
   std::unique_ptr<Impl> impl_;
 };
 

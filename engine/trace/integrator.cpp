@@ -30,6 +30,11 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.type = m.type;
   b.color = m.albedoTexture >= 0 ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv)
                                  : m.albedo;
+  if (m.type == Material::Type::Pbr) {
+    b.conductorWeight = m.metallic;
+    b.dielectricWeight = (1.0f - m.metallic) * m.transmission;
+    b.diffuseWeight = std::max(0.0f, 1.0f - b.conductorWeight - b.dielectricWeight);
+  }
   const float alpha = m.roughness * m.roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
   b.ior = m.ior;
@@ -96,6 +101,34 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
   return prepared;
 }
 
+namespace {
+// Tilts the shading normal by a tangent-space normal map. The tangent frame is the triangle's
+// (dp/du, dp/dv from its edges and uvs, at the ray's time) made orthonormal around the shading
+// normal; the map's +y runs along +v (up the image: OpenGL's and glTF's convention).
+void applyNormalMap(const Scene& scene, const Material& material, vec3 e1, vec3 e2, vec2 duv1,
+                    vec2 duv2, SurfaceHit& s) {
+  const float det = duv1.x * duv2.y - duv1.y * duv2.x;
+  if (!(std::abs(det) > 1e-12f)) return;  // no uv parameterisation to orient the map
+  const vec3 dpdu = (duv2.y * e1 - duv1.y * e2) / det;
+  const vec3 dpdv = (duv1.x * e2 - duv2.x * e1) / det;
+  const vec3 n = s.shadingNormal;
+  vec3 t = dpdu - n * glm::dot(n, dpdu);
+  const float tLength = glm::length(t);
+  if (!(tLength > 1e-12f)) return;
+  t /= tLength;
+  vec3 b = glm::cross(n, t);
+  if (glm::dot(b, dpdv) < 0) b = -b;
+  vec3 c =
+      2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv) - vec3(1.0f);
+  c.x *= material.normalScale;
+  c.y *= material.normalScale;
+  const vec3 mapped = c.x * t + c.y * b + c.z * n;
+  const float length = glm::length(mapped);
+  // A map pointing under the surface (or a broken texel) keeps the normal it had.
+  if (length > 1e-6f && glm::dot(mapped, s.geometricNormal) > 0) s.shadingNormal = mapped / length;
+}
+}  // namespace
+
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
@@ -119,6 +152,10 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
   s.uv = mesh.uvs.empty() ? vec2(0.0f)
                           : b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
   s.materialId = mesh.materialIds[hit.primId];
+  const Material& material = scene.materials[s.materialId];
+  if (material.normalTexture >= 0 && !mesh.uvs.empty())
+    applyNormalMap(scene, material, p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
+                   mesh.uvs[idx[2]] - mesh.uvs[idx[0]], s);
   return s;
 }
 
@@ -157,8 +194,9 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
                                   surface.point, surface.geometricNormal, ray.time);
         weight = powerHeuristic(previousBsdfPdf, pl);
       }
-      radiance += throughput * material.emission * weight;
-      if (features && cameraChain) features->emission += throughput * material.emission * weight;
+      const vec3 emitted = emittedRadiance(scene, material, surface.uv);
+      radiance += throughput * emitted * weight;
+      if (features && cameraChain) features->emission += throughput * emitted * weight;
     }
     if (depth >= maxDepth) break;
 
@@ -181,15 +219,14 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       const glm::vec2 uLightPoint = dimensions.next2D();
       LightSample ls;
       if (sampleLight(scene, prepared.lights, surface.point, ray.time, uLight, uLightPoint, ls)) {
-        const vec3 toLight = ls.point - surface.point;
-        const float dist = glm::length(toLight);
-        const vec3 wi = toLight / dist;
+        const vec3 wi = ls.wi;
         const vec3 f = evalBsdfCos(bsdf, wo, wi);
         if (f.x > 0 || f.y > 0 || f.z > 0) {
           Ray shadow{offsetOrigin(surface.point, surface.geometricNormal, wi), wi, ray.time};
           ++counters.rays;
-          if (!accel.occluded(shadow, 0.0f, dist * (1.0f - 1e-3f))) {
-            const float weight = powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
+          if (!accel.occluded(shadow, 0.0f, ls.distance * (1.0f - 1e-3f))) {
+            // A punctual light cannot be hit by a BSDF sample: its sample takes all the weight.
+            const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
             radiance += throughput * f * ls.radiance * (weight / ls.pdf);
           }
         }
@@ -201,7 +238,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     // Continue the path by sampling the BSDF.
     const glm::vec2 uBsdf = dimensions.next2D();
     float uLobe = 0.5f;
-    if (bsdf.type == Material::Type::Dielectric)
+    if (bsdf.choosesLobe())
       uLobe = dimensions.next1D();
     else
       dimensions.skip(1);

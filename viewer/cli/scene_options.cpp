@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
@@ -55,6 +56,14 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--camera", o.camera,
                "glTF scenes: view through the camera of this node or camera name (default: the "
                "first perspective camera; the flags below still override it)");
+  c.add_option("--frame-time", o.frameTime,
+               "glTF scenes: seconds into the animation at which the shutter opens (default: the "
+               "animation's start)")
+      ->check(CLI::Range(-1e9, 1e9));
+  c.add_option("--shutter-seconds", o.shutterSeconds,
+               "glTF scenes: how long the shutter stays open, in seconds of the animation (default "
+               "1/48; 0 freezes it)")
+      ->check(CLI::Range(0.0, 1e6));
   c.add_option("--eye", o.eye, "Camera position x,y,z");
   c.add_option("--look-at", o.lookAt, "Point the camera looks at, x,y,z");
   c.add_option("--up", o.up, "Camera up vector x,y,z");
@@ -73,6 +82,13 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
 Scene loadSceneWithOptions(const SceneOptions& o) {
   SceneLoadOptions load;
   load.camera = o.camera;
+  load.frameTime = o.frameTime;
+  if (o.shutterSeconds) {
+    const std::string ext = std::filesystem::path(o.scenePath).extension().string();
+    if (ext != ".gltf" && ext != ".glb")
+      throw CommandError("--shutter-seconds: only a glTF scene has an animation; use --shutter");
+    load.shutterSeconds = *o.shutterSeconds;
+  }
   Scene scene = loadScene(o.scenePath, load);
   for (const std::string& warning : scene.warnings)
     std::fprintf(stderr, "warning: %s\n", warning.c_str());

@@ -17,7 +17,9 @@ struct SceneOptions {
   std::string size;  // "WxH"
   std::optional<int> spp, maxDepth;
   std::string eye, lookAt, up, shutter;
-  std::string camera;  // glTF: which of the file's cameras
+  std::string camera;                    // glTF: which of the file's cameras
+  std::optional<double> frameTime;       // glTF: seconds into the animation
+  std::optional<double> shutterSeconds;  // glTF: how long the shutter stays open
   std::optional<float> fov, lensRadius, focusDistance;
 };
 

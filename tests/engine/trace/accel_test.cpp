@@ -1,5 +1,5 @@
-// Ray query tests on Embree, including motion blur: a moving sphere is hit where it is
-// at the ray's time.
+// Ray query tests on Embree, including motion blur (a moving sphere is hit where it is at the
+// ray's time) and cut-outs (rays pass through the holes of an alpha mask).
 #include "trace/accel.h"
 #include "scene/scene_loader.h"
 
@@ -29,6 +29,41 @@ TEST(Accel, MovingSphereIsHitWhereItIsAtTheRaysTime) {
   EXPECT_TRUE(hits(3, 1));
   EXPECT_TRUE(accel.occluded(Ray{vec3(0, 0, 5), vec3(0, 0, -1), 0.0f}, 0.0f, 100.0f));
   EXPECT_FALSE(accel.occluded(Ray{vec3(0, 0, 5), vec3(0, 0, -1), 0.0f}, 0.0f, 4.0f));
+}
+
+TEST(Accel, RaysPassThroughTheHolesOfACutout) {
+  // A 2 x 2 quad in the xy plane whose coverage texture is 0 on its left half (u < 0.5) and 1 on
+  // its right; a ray down -z hits only the right half, for intersections and shadow rays alike.
+  Scene scene = parseSceneJson(R"({
+    "materials": {"leaf": {"type": "diffuse"}},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "leaf",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})",
+                               "cutout.json", ".");
+  Image coverage(2, 1);
+  coverage.pixels = {vec3(0.0f), vec3(1.0f)};
+  scene.images.push_back(coverage);
+  Texture texture;
+  texture.kind = Texture::Kind::Image;
+  texture.imageIndex = 0;
+  scene.textures.push_back(texture);
+  auto ray = [](float x) { return Ray{vec3(x, 0, 5), vec3(0, 0, -1), 0.0f}; };
+  Hit hit;
+  {
+    Accel opaque(scene);  // no cut-off yet: opaque everywhere
+    EXPECT_TRUE(opaque.intersect(ray(-0.6f), 0.0f, 100.0f, hit));
+  }
+  scene.materials[0].alphaTexture = 0;
+  scene.materials[0].alphaCutoff = 0.5f;
+  const Accel accel(scene);
+  EXPECT_FALSE(accel.intersect(ray(-0.6f), 0.0f, 100.0f, hit));
+  EXPECT_FALSE(accel.occluded(ray(-0.6f), 0.0f, 100.0f));
+  ASSERT_TRUE(accel.intersect(ray(0.6f), 0.0f, 100.0f, hit));
+  EXPECT_NEAR(hit.t, 5.0f, 1e-4f);
+  EXPECT_TRUE(accel.occluded(ray(0.6f), 0.0f, 100.0f));
+  // The factor alone: coverage 0.4 under a cut-off of 0.5 is a hole everywhere.
+  scene.materials[0].alphaTexture = -1;
+  scene.materials[0].alpha = 0.4f;
+  EXPECT_FALSE(Accel(scene).intersect(ray(0.6f), 0.0f, 100.0f, hit));
 }
 
 }  // namespace

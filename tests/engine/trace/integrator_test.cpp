@@ -208,6 +208,155 @@ TEST(Integrator, PlaneUnderDiskLightMatchesTheFormFactor) {
   }
 }
 
+// A Lambertian plane (albedo 0.5) seen straight down through a 0.5-degree field of view, lit by
+// `light` alone (a JSON light) with direct lighting only.
+double planeUnderPunctualLight(const std::string& light) {
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 4, "height": 4, "max_depth": 1},
+    "camera": {"eye": [0, 5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 0.5},
+    "materials": {"ground": {"type": "diffuse", "albedo": 0.5}},
+    "objects": [{"shape": "rectangle", "size": [100, 100], "material": "ground"}],
+    "lights": [)" + light +
+                          "]}");
+  return imageMean(renderScene(std::move(scene), 16)).mean;
+}
+
+TEST(Integrator, PunctualLightsFollowTheInverseSquareLawAndTheirCones) {
+  // L = rho / pi * E, with E = I / h^2 below a point light, E cos(theta) for a directional one.
+  const double rho = 0.5, pi = 3.14159265358979;
+  EXPECT_NEAR(
+      planeUnderPunctualLight(R"({"type": "point", "position": [0, 2, 0], "intensity": 8})"),
+      rho / pi * 8.0 / 4.0, 1e-3 * rho / pi * 2.0);
+  EXPECT_NEAR(
+      planeUnderPunctualLight(
+          R"({"type": "point", "position": [0, 2, 0], "intensity": 2, "color": [1, 2, 3]})"),
+      rho / pi * 2.0 / 4.0 * luminance(vec3(1, 2, 3)), 2e-3);
+  EXPECT_NEAR(planeUnderPunctualLight(
+                  R"({"type": "directional", "direction": [0, -1, -1], "intensity": 3})"),
+              rho / pi * 3.0 * std::sqrt(0.5), 1e-3);
+  // A spot aimed at the plane lights it fully inside its inner cone, and not at all when turned
+  // away by more than its outer angle; half way between, glTF's squared ramp gives 1/4.
+  const std::string spot =
+      R"({"type": "spot", "position": [0, 2, 0], "intensity": 8, "inner_angle": 10, "outer_angle": 30, "direction": )";
+  EXPECT_NEAR(planeUnderPunctualLight(spot + "[0, -1, 0]}"), rho / pi * 2.0, 1e-3);
+  const double turned40 = std::tan(40.0 * pi / 180.0);
+  EXPECT_EQ(planeUnderPunctualLight(spot + "[" + std::to_string(turned40) + ", -1, 0]}"), 0.0);
+  const double cosHalf = (std::cos(10 * pi / 180) + std::cos(30 * pi / 180)) / 2;
+  const double turnedHalf = std::tan(std::acos(cosHalf));
+  EXPECT_NEAR(planeUnderPunctualLight(spot + "[" + std::to_string(turnedHalf) + ", -1, 0]}"),
+              rho / pi * 2.0 * 0.25, 2e-3);
+  // A point light behind the plane does not shine through it.
+  EXPECT_EQ(planeUnderPunctualLight(R"({"type": "point", "position": [0, -2, 0], "intensity": 8})"),
+            0.0);
+}
+
+// A plane of `material` seen at 45 degrees under a disk light straight above the point seen,
+// direct light only: a diffuse plane reflects the light, a smooth metal mirrors the dark sky.
+ImageMean planeUnderDisk(const std::string& material) {
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8, "max_depth": 1},
+    "camera": {"eye": [0, 1, 1], "look_at": [0, 0, 0], "fov": 1},
+    "materials": {"ground": )" +
+                          material + R"(,
+                  "lamp": {"type": "emissive", "radiance": 4}},
+    "objects": [
+      {"shape": "rectangle", "size": [100, 100], "material": "ground"},
+      {"shape": "disk", "radius": 0.5, "segments": 256, "material": "lamp",
+       "transform": {"translate": [0, 2, 0], "rotate": [180, 1, 0, 0]}}]})");
+  return imageMean(renderScene(std::move(scene), 1024));
+}
+
+TEST(Integrator, PbrMaterialIsTheWeightedMixOfItsParts) {
+  const ImageMean diffuse = planeUnderDisk(R"({"type": "diffuse", "albedo": 0.6})");
+  const ImageMean metal =
+      planeUnderDisk(R"({"type": "conductor", "color": 0.6, "roughness": 0.3})");
+  EXPECT_GT(diffuse.mean - metal.mean, 0.05) << "the parts must differ for this test";
+  for (const float metallic : {0.25f, 0.5f}) {
+    const ImageMean mix =
+        planeUnderDisk(R"({"type": "pbr", "albedo": 0.6, "roughness": 0.3, "metallic": )" +
+                       std::to_string(metallic) + "}");
+    const double expected = (1 - metallic) * diffuse.mean + metallic * metal.mean;
+    const double error = std::sqrt(mix.standardError * mix.standardError +
+                                   diffuse.standardError * diffuse.standardError +
+                                   metal.standardError * metal.standardError);
+    EXPECT_NEAR(mix.mean, expected, std::max(4 * error, 1e-3)) << "metallic " << metallic;
+  }
+  // Full transmission is glass: invisible under a uniform sky.
+  const ImageMean glass = imageMean(sphereUnderWhiteSky(
+      R"({"type": "pbr", "albedo": 1, "transmission": 1, "ior": 1.5})", 256, 4));
+  EXPECT_NEAR(glass.mean, 1.0, std::max(4 * glass.standardError, 2e-3));
+}
+
+// A 2 x 2 quad facing +z (u along +x, v along +y) with one image texture; `material` set up
+// by the caller.
+Scene texturedQuad(const std::string& materialJson, std::vector<vec3> texels, int width) {
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 16, "height": 16, "max_depth": 0},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 22.6},
+    "materials": {"m": )" +
+                          materialJson + R"(},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  Image image(width, int(texels.size()) / width);
+  image.pixels = std::move(texels);
+  scene.images.push_back(image);
+  Texture texture;
+  texture.kind = Texture::Kind::Image;
+  texture.imageIndex = 0;
+  scene.textures.push_back(texture);
+  return scene;
+}
+
+TEST(Integrator, NormalMapsTiltTheShadingNormalInTheTangentFrame) {
+  const float s = std::sin(0.5f), c = std::cos(0.5f);
+  // Tangent-space (sin, 0, cos) tilts towards +u (+x); (0, sin, cos) towards +v (+y, up the image).
+  for (const vec3 tangentSpace : {vec3(s, 0, c), vec3(0, s, c)}) {
+    Scene scene = texturedQuad(R"({"type": "diffuse"})", {0.5f * tangentSpace + vec3(0.5f)}, 1);
+    scene.materials[0].normalTexture = 0;
+    const auto prepared = prepareScene(std::move(scene));
+    Hit hit;
+    ASSERT_TRUE(
+        prepared->accel->intersect(Ray{vec3(0.3f, 0.2f, 5), vec3(0, 0, -1), 0}, 0, 100, hit));
+    const SurfaceHit surface = surfaceAt(prepared->scene, hit, 0.0f);
+    EXPECT_NEAR(surface.shadingNormal.x, tangentSpace.x, 1e-2f);
+    EXPECT_NEAR(surface.shadingNormal.y, tangentSpace.y, 1e-2f);
+    EXPECT_NEAR(surface.shadingNormal.z, c, 1e-2f);
+    EXPECT_NEAR(surface.geometricNormal.z, 1.0f, 1e-6f) << "the geometry does not change";
+  }
+}
+
+TEST(Integrator, EmissionTexturesModulateEmittersSeenAndSampled) {
+  // Emission 3 times a texture dark on the left half of the quad and white on the right.
+  std::vector<vec3> texels(8, vec3(0.0f));
+  for (int x = 4; x < 8; ++x) texels[size_t(x)] = vec3(1.0f);
+  Scene scene = texturedQuad(R"({"type": "emissive", "radiance": 3})", texels, 8);
+  scene.materials[0].emissionTexture = 0;
+  const auto prepared = prepareScene(scene);
+  // Seen: the camera frames the quad exactly; columns 2-5 are dark, 10-13 bright.
+  const RenderResult r = renderScene(scene, 4);
+  for (int y = 2; y < 14; ++y) {
+    for (int x : {2, 5}) EXPECT_NEAR(luminance(r.image.at(x, y)), 0.0f, 1e-5f) << x << "," << y;
+    for (int x : {10, 13}) EXPECT_NEAR(luminance(r.image.at(x, y)), 3.0f, 1e-4f) << x << "," << y;
+  }
+  // Sampled: a light sample carries the texture's value where it lands.
+  int checked = 0;
+  for (int i = 0; i < 64; ++i) {
+    LightSample ls;
+    const glm::vec2 u((float(i % 8) + 0.5f) / 8.0f, (float(i / 8) + 0.5f) / 8.0f);
+    if (!sampleLight(prepared->scene, prepared->lights, vec3(0, 0, 3), 0.0f, 0.5f, u, ls)) continue;
+    const float texU = 0.5f * (ls.point.x + 1.0f);
+    if (texU > 0.1f && texU < 0.4f) {
+      EXPECT_NEAR(ls.radiance.x, 0.0f, 1e-5f);
+      ++checked;
+    }
+    if (texU > 0.6f && texU < 0.9f) {
+      EXPECT_NEAR(ls.radiance.x, 3.0f, 1e-4f);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 20);
+}
+
 TEST(Integrator, EmittersShineOnlyFromTheirCounterClockwiseSide) {
   // The disk faces up (+y); a camera below it sees its black back side.
   const char* json = R"({
