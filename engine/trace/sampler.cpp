@@ -26,7 +26,11 @@ void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t st
   }
   sampleIndex_ = sampleIndex;
   dimension_ = kFirstIntegratorDim;
-  if (kind_ == SamplerKind::Independent) rng_.seedWith(pixelKey_, sampleIndex);
+  // Each sample gets a state hashed from the pixel and its index: PCG streams that share a
+  // state and differ only in their increment (the sample index) are correlated, and a pixel's
+  // mean then strays far more than its variance says.
+  if (kind_ == SamplerKind::Independent)
+    rng_.seedWith(hashValues(pixelKey_, uint64_t(sampleIndex)), pixelKey_);
 }
 
 PixelSampler::DimensionKeys PixelSampler::keysFor(uint32_t dimension) const {

@@ -191,6 +191,30 @@ TEST(Sampler, IndependentSamplesAreUniform) {
   EXPECT_LT(chi2, 37.7);
 }
 
+TEST(Sampler, IndependentSamplesOfAPixelAreIndependent) {
+  // A pixel's mean of 256 values of one dimension, standardised, has variance 1 over pixels
+  // when the samples are independent; 4096 pixels estimate it within +-0.022 (one sigma).
+  // Seeding each sample's PCG with the pixel's state and the sample index as its increment gave
+  // 0.63-1.08 across the first eight dimensions.
+  PixelSampler sampler(SamplerKind::Independent, 1, 256);
+  const int n = 256, pixels = 4096;
+  for (int dimension = 0; dimension < 8; ++dimension) {
+    double variance = 0;
+    for (int p = 0; p < pixels; ++p) {
+      double sum = 0;
+      for (int i = 0; i < n; ++i) {
+        sampler.startSample(p % 64, p / 64, uint32_t(i));
+        float u = 0;
+        for (int d = 0; d <= dimension; ++d) u = sampler.next1D();
+        sum += u;
+      }
+      const double z = (sum / n - 0.5) / std::sqrt(1.0 / 12.0 / n);
+      variance += z * z / pixels;
+    }
+    EXPECT_NEAR(variance, 1.0, 0.1) << "dimension " << dimension;
+  }
+}
+
 TEST(Sampler, RadicalInversesMatchHandValues) {
   // Base-2 radical inverse of 1, 2, 3 is 1/2, 1/4, 3/4; Sobol's second dimension of the
   // same indices is 1/2, 3/4, 1/4.
