@@ -92,8 +92,10 @@ void checkUri(const std::string& path, const std::string& where, const std::stri
     fail(path, where, "URI '" + uri + "' is an absolute path; only relative paths are read");
 }
 
-// Checks every buffer's and image's URI; returns the files the relative ones name.
-std::vector<std::string> checkUris(const std::string& path, const std::string& json) {
+// Checks every buffer's and image's URI; returns the files the relative ones name, and each
+// image's URI (empty for one in a buffer view) in `imageUris`.
+std::vector<std::string> checkUris(const std::string& path, const std::string& json,
+                                   std::vector<std::string>& imageUris) {
   std::vector<std::string> files;
   nlohmann::json root;
   try {
@@ -105,9 +107,12 @@ std::vector<std::string> checkUris(const std::string& path, const std::string& j
   for (const char* array : {"buffers", "images"}) {
     if (!root.contains(array) || !root[array].is_array()) continue;
     const auto& items = root[array];
+    const bool images = std::string(array) == "images";
+    if (images) imageUris.assign(items.size(), "");
     for (size_t i = 0; i < items.size(); ++i)
       if (items[i].is_object() && items[i].contains("uri") && items[i]["uri"].is_string()) {
         const std::string uri = items[i]["uri"].get<std::string>();
+        if (images && uri.rfind("data:", 0) != 0) imageUris[i] = uri;
         checkUri(path, indexed(array, i) + ".uri", uri);
         if (uri.rfind("data:", 0) != 0)
           files.push_back((fs::path(path).parent_path() / uri).lexically_normal().string());
@@ -1001,7 +1006,8 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   const std::string ext = fs::path(path).extension().string();
   const bool binary = ext == ".glb" || ext == ".GLB";
   const std::string bytes = readFileBytes(path);
-  const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary));
+  std::vector<std::string> imageUris;
+  const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary), imageUris);
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -1015,6 +1021,13 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
                                           base);
   if (!ok || !err.empty()) {
     while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
+    // tinygltf names a broken image by its index: add the file it was read from.
+    const size_t at = err.find("image[");
+    if (at != std::string::npos) {
+      const size_t index = std::strtoul(err.c_str() + at + 6, nullptr, 10);
+      if (index < imageUris.size() && !imageUris[index].empty())
+        err += " (file '" + imageUris[index] + "')";
+    }
     fail(path, "", err.empty() ? "cannot parse file" : err);
   }
 

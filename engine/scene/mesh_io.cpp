@@ -557,12 +557,16 @@ struct CornerKeyHash {
 ObjData loadObj(const std::string& path) {
   // tinyobjloader reads a malformed number as 0 and goes on; check the text first.
   const fs::path objFolder = fs::path(path).parent_path();
-  std::vector<std::string> libraries;
+  std::vector<std::string> libraries, warnings;
   for (const std::string& library : checkObjText(readWholeFile(path), path)) {
     // Where tinyobjloader looks for it; a missing library falls back to the default material.
     const std::string mtl = (objFolder / library).string();
     std::error_code error;
-    if (!fs::is_regular_file(mtl, error)) continue;
+    if (!fs::is_regular_file(mtl, error)) {
+      warnings.push_back("mtllib '" + library + "' not found (" + mtl +
+                         "): its materials are drawn in the default grey");
+      continue;
+    }
     checkMtlText(readWholeFile(mtl), mtl);
     libraries.push_back(mtl);
   }
@@ -590,6 +594,7 @@ ObjData loadObj(const std::string& path) {
 
   ObjData result;
   result.files = std::move(libraries);
+  result.warnings = std::move(warnings);
   for (const tinyobj::material_t& source : reader.GetMaterials()) {
     const ObjMaterialDesc desc{source.name,
                                toVec3(source.diffuse),

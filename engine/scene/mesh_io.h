@@ -41,11 +41,13 @@ struct ObjData {
   std::vector<Material> materials;       // albedoTexture left at -1
   std::vector<std::string> diffuseMaps;  // per material: map_Kd path, "" if none
   std::vector<std::string> files;        // the MTL libraries read
+  std::vector<std::string> warnings;     // what is not as the file says (a missing library)
 };
 
 // Reads an OBJ (triangulated, corners de-indexed into unique position/uv/normal
 // triples) and its MTL library. map_Kd paths are resolved relative to the OBJ's
-// folder. A missing MTL file falls back to a default grey diffuse material; faces
+// folder. A missing MTL file falls back to a default grey diffuse material (with a
+// warning); faces
 // without a material get that default too. Throws SceneError naming the file.
 ObjData loadObj(const std::string& path);
 

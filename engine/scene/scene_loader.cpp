@@ -367,6 +367,7 @@ Mesh readShape(const Reader& r, const Json& node, const std::string& f, const st
       if (ext == ".obj") {
         ObjData obj = loadObj(path);
         scene.sourceFiles.insert(scene.sourceFiles.end(), obj.files.begin(), obj.files.end());
+        for (const std::string& w : obj.warnings) scene.warnings.push_back(path + ": " + w);
         objMaterials = std::move(obj.materials);
         objMaps = std::move(obj.diffuseMaps);
         return std::move(obj.mesh);
@@ -615,6 +616,7 @@ Scene sceneFromObj(const std::string& path) {
   scene.sourcePath = path;
   scene.sourceFiles.push_back(path);
   scene.sourceFiles.insert(scene.sourceFiles.end(), obj.files.begin(), obj.files.end());
+  for (const std::string& w : obj.warnings) scene.warnings.push_back(path + ": " + w);
   const uint32_t offset = appendObjMaterials(scene, obj.materials, obj.diffuseMaps, path);
   for (uint32_t& id : obj.mesh.materialIds) id += offset;
   obj.mesh.name = fs::path(path).stem().string();

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace penumbra {
@@ -84,6 +85,51 @@ TEST(LiveReload, ReloadsOnAChangeOfTheSceneOrAFileItNames) {
   write(dir + "/tri.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n", 4);
   EXPECT_TRUE(app.checkSceneFiles());
   EXPECT_EQ(app.options().scene->scene.meshes[0].positions[1], vec3(2, 0, 0));
+}
+
+// Reads a whole file.
+std::string readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(LiveReload, TheShippedGltfSceneReloadsOnAnEditOfItsFileOrATexture) {
+  // A copy of scenes/studio: its .gltf, .bin and textures are all watched.
+  const std::string dir = folder();
+  fs::copy(test::sourcePath("scenes/studio"), dir, fs::copy_options::recursive);
+  const std::string path = dir + "/studio.gltf";
+  ViewerApp app(optionsFor(path));
+  const auto& files = app.options().scene->scene.sourceFiles;
+  EXPECT_EQ(files.size(), 1u + 1u + 5u) << "the .gltf, its .bin and five textures";
+  const auto brass = [&] {
+    for (const Material& m : app.options().scene->scene.materials)
+      if (m.name == "Brass") return m;
+    ADD_FAILURE() << "no Brass material";
+    return Material();
+  };
+  EXPECT_NEAR(brass().metallic, 0.6f, 1e-6f);
+
+  // The artist turns the brass into full metal and saves.
+  std::string text = readAll(path);
+  const size_t at = text.find("\"metallicFactor\": 0.6");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, std::string("\"metallicFactor\": 0.6").size(), "\"metallicFactor\": 1.0");
+  write(path, text, 2);
+  const int restarts = app.restarts();
+  EXPECT_TRUE(app.checkSceneFiles());
+  EXPECT_EQ(app.restarts(), restarts + 1);
+  EXPECT_NEAR(brass().metallic, 1.0f, 1e-6f);
+
+  // A texture repainted outside the scene file reloads too; a broken one keeps the last scene.
+  const std::string crate = dir + "/textures/crate.png";
+  const std::string good = readAll(crate);
+  write(crate, good.substr(0, good.size() / 2), 4);
+  const auto before = app.options().scene;
+  EXPECT_FALSE(app.checkSceneFiles());
+  EXPECT_EQ(app.options().scene, before);
+  EXPECT_NE(app.lastMessage().find("crate.png"), std::string::npos) << app.lastMessage();
+  write(crate, good, 6);
+  EXPECT_TRUE(app.checkSceneFiles());
 }
 
 TEST(LiveReload, ABrokenFileKeepsTheLastGoodSceneAndSaysWhy) {

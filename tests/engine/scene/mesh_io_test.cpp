@@ -2,6 +2,7 @@
 // themselves: the three PLY encodings, skipping of unknown data, error messages
 // for damaged files, and the MTL-to-Material mapping.
 #include "scene/mesh_io.h"
+#include "scene/scene_loader.h"
 
 #include "tests/engine/scene/expect_scene_error.h"
 #include "tests/test_paths.h"
@@ -437,6 +438,14 @@ TEST(ObjReader, MissingMtlFallsBackToDefaultMaterial) {
   EXPECT_EQ(data.mesh.materialIds, (std::vector<uint32_t>{0}));
   EXPECT_TRUE(data.mesh.normals.empty());
   EXPECT_TRUE(data.mesh.uvs.empty());
+  // Never silently: a warning names the library.
+  ASSERT_EQ(data.warnings.size(), 1u);
+  EXPECT_NE(data.warnings[0].find("mtllib 'nowhere.mtl' not found"), std::string::npos)
+      << data.warnings[0];
+  const Scene scene = sceneFromObj(path);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("no_mtl.obj: mtllib 'nowhere.mtl'"), std::string::npos)
+      << scene.warnings[0];
 }
 
 TEST(ObjReader, Errors) {
