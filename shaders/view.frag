@@ -1,7 +1,7 @@
 #version 330 core
 // Shows the composited picture (composite.frag) in the viewport: nearest-neighbour zoom and
 // pan, the slices of the last round with B and C filled when zoomed in (Selected overlay),
-// and the inspected pixel outlined. Cheap per fragment, so it can run every frame.
+// the inspected pixel outlined, and the render region outlined. Cheap per fragment, so it can run every frame.
 // SLICE_TEXEL_NONE is a #define the viewer injects from its C++ constant (kSliceTexelNone).
 
 uniform sampler2D picture;    // display-encoded colours, one texel per image pixel
@@ -13,6 +13,7 @@ uniform float zoom;           // screen pixels per image pixel
 uniform bool drawSlices;
 uniform int slicesPerSide;
 uniform ivec2 inspected;      // (-1, -1): none
+uniform ivec4 region;         // x, y, width, height in image pixels; width 0: none
 uniform vec3 background;
 
 out vec4 fragColor;
@@ -43,6 +44,16 @@ void main() {
   if (inspected.x >= 0 && texel == inspected) {
     vec2 toEdge = min(local, 1.0 - local) * zoom;
     if (min(toEdge.x, toEdge.y) < max(1.0, min(3.0, 0.08 * zoom))) color = vec3(1.0, 0.2, 0.9);
+  }
+  if (region.z > 0) {
+    // A line about 1.5 screen pixels wide just outside the region's pixels.
+    vec2 lo = vec2(region.xy), hi = vec2(region.xy + region.zw);
+    vec2 outside = max(lo - pos, pos - hi) * zoom;  // screen pixels beyond each edge
+    bool alongX = pos.y >= lo.y - 1.5 / zoom && pos.y <= hi.y + 1.5 / zoom;
+    bool alongY = pos.x >= lo.x - 1.5 / zoom && pos.x <= hi.x + 1.5 / zoom;
+    if ((alongX && outside.x > 0.0 && outside.x <= 1.5) ||
+        (alongY && outside.y > 0.0 && outside.y <= 1.5))
+      color = vec3(1.0, 0.75, 0.2);
   }
   fragColor = vec4(color, 1.0);
 }

@@ -19,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -243,6 +244,30 @@ TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
   };
   EXPECT_EQ(blocksWithDetail(MapId::None), 0);
   EXPECT_EQ(blocksWithDetail(MapId::Selected), 64);
+}
+
+TEST(HeadlessGl, TheRenderRegionIsOutlined) {
+  // At zoom 4 the outline is a line of one or two screen pixels just outside the region.
+  HeadlessRequest request;
+  request.rounds = 1;
+  request.width = request.height = 256;
+  request.zoom = 4.0f;
+  request.centerX = request.centerY = kSize / 2.0f;
+  ViewOptions o = options(MapId::None);
+  o.region = {20, 24, 16, 8};
+  const HeadlessFrame frame = renderHeadless(o, request);
+  const auto rgb = [&](int x, int y) {
+    const uint8_t* p = &frame.rgb[3 * (size_t(y) * 256 + size_t(x))];
+    return std::array<int, 3>{p[0], p[1], p[2]};
+  };
+  const std::array<int, 3> outline{255, 191, 51};
+  // Image x = 20 is screen x = 128 + (20 - 32) * 4 = 80; y = 24 is screen 96, y = 32 is 128.
+  EXPECT_EQ(rgb(79, 110), outline) << "left edge";
+  EXPECT_EQ(rgb(100, 95), outline) << "top edge";
+  EXPECT_EQ(rgb(100, 128), outline) << "bottom edge";
+  EXPECT_EQ(rgb(144, 110), outline) << "right edge";
+  EXPECT_NE(rgb(100, 110), outline) << "inside";
+  EXPECT_NE(rgb(60, 110), outline) << "outside";
 }
 
 TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {

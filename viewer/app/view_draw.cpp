@@ -100,6 +100,12 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   view.slices = options_.overlay == MapId::Selected && view_.zoom >= 8.0f && view.slicesPerSide > 0;
   view.inspectedX = view_.inspectX;
   view.inspectedY = view_.inspectY;
+  if (view_.region.active()) {
+    view.regionX = view_.region.x;
+    view.regionY = view_.region.y;
+    view.regionWidth = view_.region.width;
+    view.regionHeight = view_.region.height;
+  }
   view.legendHeight = legendStrip_.height;
   view.legendLeft = panelReserve();
   glClearColor(0.12f, 0.12f, 0.13f, 1.0f);

@@ -188,6 +188,8 @@ void DisplayRenderer::draw(int width, int height, const DisplayView& view) {
   glUniform1i(uniform(p, "drawSlices"), view.slices ? 1 : 0);
   glUniform1i(uniform(p, "slicesPerSide"), view.slicesPerSide);
   glUniform2i(uniform(p, "inspected"), view.inspectedX, view.inspectedY);
+  glUniform4i(uniform(p, "region"), view.regionX, view.regionY, view.regionWidth,
+              view.regionHeight);
   glUniform3f(uniform(p, "background"), 0.12f, 0.12f, 0.13f);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 

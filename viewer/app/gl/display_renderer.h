@@ -31,6 +31,8 @@ struct DisplayView {
   bool slices = false;  // outline slices and fill B and C (when zoomed in)
   int slicesPerSide = 0;
   int inspectedX = -1, inspectedY = -1;
+  // The render region, outlined just outside its pixels; width 0: none.
+  int regionX = 0, regionY = 0, regionWidth = 0, regionHeight = 0;
   int legendHeight = 0;  // bottom band left for the legend strip
   int legendLeft = 0;    // where the strip starts (right of the panel)
 };
