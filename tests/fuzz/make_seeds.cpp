@@ -62,6 +62,13 @@ const char* const kTriangleGltf =
 const char* const kTriangleGlbJson =
     R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"translation":[0,0,-1],"rotation":[0,0,0,1],"scale":[1,1,1]},{"camera":0,"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,3,1]}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0,"mode":4}]}],"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.2,0.2,1],"metallicFactor":0},"emissiveFactor":[1,1,1]}],"buffers":[{"byteLength":44}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
 
+// The triangle with everything the reader turns into rendering: a half-metal, partly
+// transmissive material with a base colour texture (alpha MASK), a normal map and an emissive
+// texture (PNGs in data: URIs), a spot and a directional light, and an animation (linear
+// translation, step rotation).
+const char* const kFeaturesGltf =
+    R"(){"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1,2,3]}],"nodes":[{"mesh":0,"translation":[0,0,-1]},{"camera":0,"translation":[0,0,3]},{"translation":[0,2,0],"rotation":[-0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":0}}},{"extensions":{"KHR_lights_punctual":{"light":1}}}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1,"material":0}]}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0.5,"roughnessFactor":0.4},"normalTexture":{"index":1,"scale":0.8},"alphaMode":"MASK","alphaCutoff":0.5,"emissiveFactor":[1,1,1],"emissiveTexture":{"index":0},"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":2},"KHR_materials_transmission":{"transmissionFactor":0.3}}}],"textures":[{"source":0},{"source":1}],"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAYAAAD0In+KAAAAEElEQVR4nGP4zwAE/xn+AwAL/QL+6O7ISQAAAABJRU5ErkJggg=="},{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGNoOHECAAPcAhH5w/3PAAAAAElFTkSuQmCC"}],"extensionsUsed":["KHR_lights_punctual","KHR_materials_emissive_strength","KHR_materials_transmission"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"spot","intensity":5,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.5}},{"type":"directional","color":[1,0.9,0.8],"intensity":2}]}},"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":1,"target":{"node":0,"path":"rotation"}}],"samplers":[{"input":3,"output":4,"interpolation":"LINEAR"},{"input":3,"output":5,"interpolation":"STEP"}]}],"buffers":[{"byteLength":132,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAA9AQ1PwAAAAD0BDU/"}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6},{"buffer":0,"byteOffset":44,"byteLength":24},{"buffer":0,"byteOffset":68,"byteLength":8},{"buffer":0,"byteOffset":76,"byteLength":24},{"buffer":0,"byteOffset":100,"byteLength":32}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},{"bufferView":3,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":4,"componentType":5126,"count":2,"type":"VEC3"},{"bufferView":5,"componentType":5126,"count":2,"type":"VEC4"}]})";
+
 std::string triangleGlb() {
   std::string bin;
   const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -115,6 +122,7 @@ int main(int argc, char** argv) {
 
   writeBytes(root / "gltf" / "triangle.gltf", kTriangleGltf);
   writeBytes(root / "gltf" / "triangle.glb", triangleGlb());
+  writeBytes(root / "gltf" / "features.gltf", kFeaturesGltf);
 
   const Image image = gradient(4, 3);
   writeImage((root / "exr" / "gradient.exr").string(), image);
