@@ -7,7 +7,7 @@
 # undamaged form first, so every error comes from the one defect.
 # Usage: malformed_files_test.sh PENUMBRA SOURCE_DIR
 #
-# The kinds (30):
+# The kinds (32):
 #   OBJ   1  a coordinate that is not a number (v 0 zero 0)
 #         2  a face index past the vertex count
 #         3  a face index 0 (OBJ counts from 1)
@@ -29,6 +29,8 @@
 #        19  a .glb with the wrong magic (glTX)
 #        20  a node that is its own ancestor (a cycle)
 #        21  --camera naming a camera the file lacks
+#        31  a node's KHR_lights_punctual naming a light the file lacks
+#        32  animation keyframe times that go backwards
 #   JSON 22  a syntax error (reported as file:line:column)
 #        23  an object using an unknown material
 #        24  a mesh file that does not exist
@@ -40,7 +42,8 @@
 #        29  a PFM whose header has no height
 #        30  a PFM whose pixel data is shorter than its header says
 #
-# Not a case: an OBJ whose mtllib names a missing file renders with the default material.
+# Not a case: an OBJ whose mtllib names a missing file renders with the default material (and
+# a warning naming the library).
 set -u
 penumbra=$1
 src=$2
@@ -148,6 +151,18 @@ def model(uri=None, count=3, indices=(0, 1, 2), children=()):
 gltfs = {"ok": model(), "accessor": model(count=4), "index": model(indices=(0, 1, 5)),
          "http": model(uri="http://example.com/tri.bin"), "absolute": model(uri="/nowhere/tri.bin"),
          "nobin": model(uri="missing.bin"), "cycle": model(children=[0])}
+gltfs["light"] = model()
+gltfs["light"]["nodes"][0]["extensions"] = {"KHR_lights_punctual": {"light": 5}}
+keys = struct.pack("<2f", 1, 0) + struct.pack("<6f", 0, 0, 0, 1, 0, 0)
+gltfs["anim"] = model()
+gltfs["anim"]["buffers"].append({"uri": "data:application/octet-stream;base64," +
+                                 base64.b64encode(keys).decode(), "byteLength": len(keys)})
+gltfs["anim"]["bufferViews"] += [{"buffer": 1, "byteLength": 8},
+                                 {"buffer": 1, "byteOffset": 8, "byteLength": 24}]
+gltfs["anim"]["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR"},
+                               {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"}]
+gltfs["anim"]["animations"] = [{"channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
+                                "samplers": [{"input": 2, "output": 3}]}]
 for name, m in gltfs.items():
     open(f"{work}/gltf_{name}.gltf", "w").write(json.dumps(m))
 open(f"{work}/gltf_syntax.gltf", "w").write(json.dumps(model())[:120])
@@ -205,6 +220,8 @@ expect_error "glb: truncated in its JSON chunk" cut.glb "JSON chunk of" "$work/c
 expect_error "glb: wrong magic" magic.glb "not a binary glTF file (no 'glTF' header)" "$work/magic.glb"
 expect_error "glTF: node its own ancestor" gltf_cycle.gltf "nodes[0]: is its own ancestor" "$work/gltf_cycle.gltf"
 expect_error "glTF: --camera names no camera" gltf_ok.gltf "no perspective camera named 'Nope' (there are: Cam)" "$work/gltf_ok.gltf" --camera Nope
+expect_error "glTF: a light the file lacks" gltf_light.gltf "nodes[0].extensions.KHR_lights_punctual.light: light 5 does not exist" "$work/gltf_light.gltf"
+expect_error "glTF: keyframes going backwards" gltf_anim.gltf "animations[0].channels[0].input (accessors[2]): keyframe time 0 at 1" "$work/gltf_anim.gltf"
 
 # ---- JSON scenes ----------------------------------------------------------------------------
 printf '{"materials": {\n  "m": {"type": "diffuse",}\n}}' >"$work/json_syntax.json"
