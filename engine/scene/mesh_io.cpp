@@ -270,6 +270,7 @@ class PlyValueReader {
  public:
   PlyValueReader(const std::string& file, const std::string& data, const PlyHeader& header)
       : file_(file),
+        begin_(data.data()),
         cursor_(data.data() + header.dataStart),
         end_(data.data() + data.size()),
         format_(header.format),
@@ -307,7 +308,8 @@ class PlyValueReader {
     if (format_ == PlyFormat::Ascii) {
       error("unexpected end of file in element '" + element_->name + "'");
     }
-    fileError(file_, "truncated binary data in element '" + element_->name + "'");
+    fileError(file_, "truncated binary data in element '" + element_->name + "' at byte " +
+                         std::to_string(cursor_ - begin_) + " of " + std::to_string(end_ - begin_));
   }
 
   double readBinary(PlyType type) {
@@ -352,6 +354,7 @@ class PlyValueReader {
   }
 
   const std::string& file_;
+  const char* begin_;
   const char* cursor_;
   const char* end_;
   PlyFormat format_;

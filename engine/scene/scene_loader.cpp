@@ -282,10 +282,11 @@ mat4 readTransform(const Reader& r, const Json& node, const std::string& f) {
     const std::string rf = f + ".rotate";
     if (!rot.is_array() || rot.size() != 4)
       r.fail(rf, "expected [degrees, axis_x, axis_y, axis_z]");
-    const vec3 axis(r.number(rot[1], rf + "[1]"), r.number(rot[2], rf + "[2]"),
-                    r.number(rot[3], rf + "[3]"));
-    if (glm::length(axis) < 1e-8f) r.fail(rf, "rotation axis is zero");
-    m = glm::rotate(m, glm::radians(r.number(rot[0], rf + "[0]")), glm::normalize(axis));
+    // Normalised in double: a component near 1e30 would overflow a float's squared length.
+    const glm::dvec3 axis(r.number(rot[1], rf + "[1]"), r.number(rot[2], rf + "[2]"),
+                          r.number(rot[3], rf + "[3]"));
+    if (glm::length(axis) < 1e-8) r.fail(rf, "rotation axis is zero");
+    m = glm::rotate(m, glm::radians(r.number(rot[0], rf + "[0]")), vec3(glm::normalize(axis)));
   }
   if (node.contains("scale")) {
     const vec3 s = r.vector3(node["scale"], f + ".scale");
@@ -303,8 +304,9 @@ Motion readMotion(const Reader& r, const Json& node, const std::string& f) {
     const Json& rot = node["rotate"];
     const std::string rf = f + ".rotate";
     r.checkKeys(rot, rf, {"axis", "degrees"});
-    mo.axis = r.vector3(rot, rf, "axis", vec3(0, 1, 0));
-    if (glm::length(mo.axis) < 1e-8f) r.fail(rf + ".axis", "rotation axis is zero");
+    const glm::dvec3 axis(r.vector3(rot, rf, "axis", vec3(0, 1, 0)));
+    if (glm::length(axis) < 1e-8) r.fail(rf + ".axis", "rotation axis is zero");
+    mo.axis = vec3(glm::normalize(axis));  // in double: a huge component would overflow a float
     mo.degrees = r.number(rot, rf, "degrees", 0.0f);
   }
   mo.timeSteps = r.integer(node, f, "time_steps", 0, 2, 129);
@@ -484,15 +486,19 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
                         : mat4(1.0f);
   const Motion motion =
       node.contains("motion") ? readMotion(r, node["motion"], f + ".motion") : Motion{};
-  if (std::abs(glm::determinant(glm::mat3(base))) < 1e-12f)
-    r.fail(f + ".transform", "transform is singular");
+  if (!(std::abs(glm::determinant(glm::mat3(base))) >= 1e-12f))
+    r.fail(f + ".transform", "transform is singular or not finite");
   // Motion copies every vertex per time step: refuse what would not fit in memory.
   constexpr double kMaxVertexSteps = 5e7;
   if (double(mesh.vertexCount) * motionTimeSteps(motion) > kMaxVertexSteps)
     r.fail(f + ".motion", std::to_string(mesh.vertexCount) + " vertices x " +
                               std::to_string(motionTimeSteps(motion)) +
                               " time steps is too large; use fewer segments or time_steps");
-  scene.meshes.push_back(placeMesh(mesh, base, motion));
+  try {
+    scene.meshes.push_back(placeMesh(mesh, base, motion));
+  } catch (const std::invalid_argument& e) {
+    r.fail(f + (node.contains("motion") ? ".motion" : ".transform"), e.what());
+  }
   // An included file's lights go where the object's transform puts them (at rest).
   for (PunctualLight light : objLights) {
     light.position = vec3(base * glm::vec4(light.position, 1.0f));

@@ -105,6 +105,30 @@ TEST(SceneLoader, EachMalformedFieldIsNamed) {
   }
 }
 
+// Found by the scene fuzzer: a rotation axis with a component near 1e24 overflowed a float's
+// squared length, and the object's placement threw an exception that was not a SceneError.
+TEST(SceneLoader, HugeRotationAxesAreNormalisedAndBadTransformsAreSceneErrors) {
+  const auto scene = [](const std::string& object) {
+    return R"({"materials": {"m": {"type": "diffuse"}}, "objects": [)" + object + "]}";
+  };
+  const Scene s = parseSceneJson(
+      scene(R"({"shape": "rectangle", "material": "m", "transform": {"rotate": [180, 1, 1e24, 0]},
+                "motion": {"rotate": {"axis": [1e24, 0, 0], "degrees": 90}}})"),
+      "huge_axis.json", ".");
+  // Half a turn about y turns the rectangle's +y normal... not at all: it stays +y.
+  ASSERT_FALSE(s.meshes[0].normals.empty());
+  EXPECT_NEAR(s.meshes[0].normals[0].y, 1.0f, 1e-5f);
+  try {
+    parseSceneJson(scene(R"({"shape": "rectangle", "material": "m",
+                             "transform": {"scale": [1e-30, 1e-30, 1e-30]}})"),
+                   "tiny.json", ".");
+    FAIL() << "a singular transform must be refused";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("tiny.json: objects[0].transform"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SceneLoader, SyntaxErrorsGiveLineAndColumn) {
   try {
     parseSceneJson("{\n  \"render\": {\"width\": 4,,}\n}", "broken.json", ".");
