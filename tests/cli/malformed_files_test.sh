@@ -193,7 +193,7 @@ expect_render "PLY ascii" "$work/ply_ascii.json"
 expect_render "PLY binary" "$work/ply_binary.json"
 head -c -7 "$work/binary.ply" >"$work/ply_cut.ply"
 mesh_scene ply_cut ply_cut.ply
-expect_error "PLY: truncated binary body" ply_cut.ply "truncated binary data in element 'face'" "$work/ply_cut.json"
+expect_error "PLY: truncated binary body" ply_cut.ply "truncated binary data in element 'face' at byte" "$work/ply_cut.json"
 { ply_header binary_little_endian 1000 1; cat "$work/ply_tri.bin"; } >"$work/ply_count.ply"
 mesh_scene ply_count ply_count.ply
 expect_error "PLY: element count larger than the data" ply_count.ply "element 'vertex' declares 1000 entries, more than" "$work/ply_count.json"
