@@ -16,8 +16,10 @@ struct Reference {
   Convergence convergence;  // its residual MSE and mean relative error
 };
 
-// `threads` 0 = all cores; `progress` (may be empty) gets the fraction done.
+// `threads` 0 = all cores; `progress` (may be empty) gets the fraction done; `pixelMask` (may
+// be empty) limits it to a shard's pixels (methods/shard.h).
 Reference renderReference(const PreparedScene& prepared, int spp, uint64_t seed, int threads,
-                          std::function<void(double)> progress = {});
+                          std::function<void(double)> progress = {},
+                          std::vector<uint8_t> pixelMask = {});
 
 }  // namespace penumbra

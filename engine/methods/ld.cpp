@@ -61,6 +61,7 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
                       for (size_t p = range.begin(); p < range.end(); ++p) {
                         // Below the noise threshold: converged, no more samples.
                         if (!pixelError_.empty() && pixelError_[p] < threshold) continue;
+                        if (!pixelMask_.empty() && !pixelMask_[p]) continue;  // another shard's
                         const int px = int(p % width_), py = int(p / width_);
                         for (uint32_t i = first; i < last; ++i) {
                           sampler.startSample(px, py, i);
@@ -115,6 +116,12 @@ double LdMethod::estimatedError() const {
 size_t LdMethod::memoryBytes() const { return film_.memoryBytes(); }
 
 Image LdMethod::varianceOfMean() const { return film_.varianceOfMeanImage(); }
+
+void LdMethod::renderOnly(std::vector<uint8_t> mask) {
+  if (mask.size() != pixelCount_)
+    throw std::invalid_argument("LdMethod::renderOnly: the mask is not one value per pixel");
+  pixelMask_ = std::move(mask);
+}
 
 PixelInspection LdMethod::inspect(int x, int y) const {
   PixelInspection in = startInspection(x, y, width_, height_, rounds_, "ld");

@@ -54,6 +54,9 @@ class LdMethod final : public ProgressiveMethod {
   uint32_t samplesPerPixel() const { return drawn_; }
   // Per channel: the unbiased sample variance of each pixel over its sample count.
   Image varianceOfMean() const;
+  // Renders only the pixels marked 1 (one per pixel, row-major); the others get no samples.
+  // Each rendered pixel is exactly what it is in a run of every pixel.
+  void renderOnly(std::vector<uint8_t> mask);
 
  private:
   const PreparedScene& prepared_;
@@ -67,6 +70,7 @@ class LdMethod final : public ProgressiveMethod {
   // follows (made at drawnAtError_ samples).
   std::vector<float> pixelError_, errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
+  std::vector<uint8_t> pixelMask_;  // empty: every pixel
   uint32_t drawnAtError_ = 0;
   void updatePixelErrors(const std::atomic<bool>* cancel);
   uint32_t drawn_ = 0;

@@ -18,6 +18,7 @@ RenderResult renderImage(const PreparedScene& prepared, const RenderOptions& opt
   RunShape shape = RunShape::batch(std::max(1, options.spp), options.seed);
   shape.sampler = options.sampler;
   LdMethod method(prepared, shape);
+  if (!options.pixelMask.empty()) method.renderOnly(options.pixelMask);
   RenderResult result;
   while (!method.done()) {
     method.runRound(options.cancel);

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace penumbra {
 
@@ -21,6 +22,9 @@ struct RenderOptions {
   // Called between rounds with the fraction done; must be quick.
   std::function<void(double)> progress;
   const std::atomic<bool>* cancel = nullptr;
+  // Not empty: only the pixels marked 1 are rendered (a shard, methods/shard.h); the others
+  // stay zero, with zero variance.
+  std::vector<uint8_t> pixelMask;
 };
 
 struct RenderResult {

@@ -10,6 +10,7 @@
 #include "viewer/cli/commands.h"
 #include "viewer/cli/progress.h"
 #include "viewer/cli/scene_options.h"
+#include "viewer/cli/shard_record.h"
 
 #include <nlohmann/json.hpp>
 
@@ -27,13 +28,8 @@ struct ReferenceFlags {
   uint64_t seed = 999;  // far from the seeds the comparisons use (1, 2, ...)
   int threads = 0;
   bool quiet = false;
+  std::string shard;  // "K/N": render only shard K's tiles (docs/farm.md)
 };
-
-std::string siblingPath(const std::string& path, const std::string& suffix,
-                        const std::string& extension) {
-  std::filesystem::path p(path);
-  return (p.parent_path() / (p.stem().string() + suffix + extension)).string();
-}
 
 void run(ReferenceFlags flags) {
   try {
@@ -52,40 +48,65 @@ void run(ReferenceFlags flags) {
   if (ec) throw CommandError(flags.output + ": cannot create directory: " + ec.message());
 
   flags.scene.spp = flags.spp;
+  Shard shard;
+  if (!flags.shard.empty()) {
+    try {
+      shard = parseShard(flags.shard);
+    } catch (const std::invalid_argument& e) {
+      throw CommandError(std::string("--shard: ") + e.what());
+    }
+    if (lowercaseExtension(flags.output) != ".exr")
+      throw CommandError("--output " + flags.output + ": a shard is written as .exr");
+  }
   Scene scene = loadSceneWithOptions(flags.scene);
   auto prepared = prepareScene(std::move(scene));
   const Scene& s = prepared->scene;
-  ProgressBar bar("reference " + std::to_string(s.settings.width) + "x" +
-                  std::to_string(s.settings.height) + " " + std::to_string(flags.spp) + " spp");
+  const int w = s.settings.width, h = s.settings.height;
+  ProgressBar bar("reference " + std::to_string(w) + "x" + std::to_string(h) + " " +
+                  std::to_string(flags.spp) + " spp" +
+                  (flags.shard.empty() ? "" : ", shard " + flags.shard));
   std::function<void(double)> progress;
   if (!flags.quiet) progress = [&bar](double f) { bar.update(f); };
-  const Reference ref = renderReference(*prepared, flags.spp, flags.seed, flags.threads, progress);
+  const Reference ref =
+      renderReference(*prepared, flags.spp, flags.seed, flags.threads, progress,
+                      flags.shard.empty() ? std::vector<uint8_t>() : shardPixelMask(w, h, shard));
   bar.finish();
   const RenderResult& r = ref.render;
-  const Convergence& converged = ref.convergence;
   writeImage(flags.output, r.image);
   writeImage(flags.variancePath, r.varianceOfMean);
-  nlohmann::json j;
-  j["scene"] = flags.scene.scenePath;
-  j["image"] = flags.output;
-  j["variance"] = flags.variancePath;
-  j["width"] = s.settings.width;
-  j["height"] = s.settings.height;
-  j["spp"] = flags.spp;
-  j["seed"] = flags.seed;
-  j["max_depth"] = s.settings.maxDepth;
-  j["time_seconds"] = r.seconds;
-  j["rays"] = r.rays;
-  j["nan_samples"] = r.nonFiniteSamples;
-  j["mean_relative_standard_error"] = converged.meanRelativeError;
-  j["residual_mse"] = converged.residualMse;
-  writeJson(flags.statsPath, j);
-  if (!flags.quiet)
-    std::printf(
-        "%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
-        "error %.3g)\n",
-        flags.output.c_str(), s.settings.width, s.settings.height, flags.spp, r.seconds,
-        flags.variancePath.c_str(), converged.residualMse, converged.meanRelativeError);
+  if (!flags.shard.empty()) {
+    // A shard's record instead of the reference's: `penumbra merge` makes that one.
+    ShardRecord record;
+    record.command = "reference";
+    record.scene = flags.scene.scenePath;
+    record.sceneHash = sceneHash(s);
+    record.settings =
+        pixelSettings(s, flags.scene, flags.spp, flags.seed, SamplerKind::LowDiscrepancy);
+    record.shard = shard;
+    record.tiles = shardTiles(w, h, shard);
+    record.width = w;
+    record.height = h;
+    record.image = flags.output;
+    record.variance = flags.variancePath;
+    record.seconds = r.seconds;
+    record.rays = r.rays;
+    record.nanSamples = r.nonFiniteSamples;
+    const std::string recordPath = shardRecordPath(flags.output);
+    writeJson(recordPath, record.toJson());
+    if (!flags.quiet)
+      std::printf("%s: shard %d of %d (%zu tiles), %.1f s; record %s\n", flags.output.c_str(),
+                  shard.index, shard.count, record.tiles.size(), r.seconds, recordPath.c_str());
+  } else {
+    writeJson(flags.statsPath,
+              referenceRecord(flags.scene.scenePath, flags.output, flags.variancePath, s, flags.spp,
+                              flags.seed, r, ref.convergence));
+    if (!flags.quiet)
+      std::printf(
+          "%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
+          "error %.3g)\n",
+          flags.output.c_str(), w, h, flags.spp, r.seconds, flags.variancePath.c_str(),
+          ref.convergence.residualMse, ref.convergence.meanRelativeError);
+  }
   if (r.nonFiniteSamples > 0)
     std::fprintf(stderr, "penumbra reference: warning: %llu NaN or infinite samples were dropped\n",
                  static_cast<unsigned long long>(r.nonFiniteSamples));
@@ -112,6 +133,10 @@ void registerReferenceCommand(CLI::App& app) {
   c->add_option("--seed", flags->seed, "Random seed")->capture_default_str();
   c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
+  c->add_option(
+      "--shard", flags->shard,
+      "K/N: render only shard K (from 0) of N, by tile, for a job array; writes the "
+      "shard's image, variance and OUTPUT.shard.json for `penumbra merge` (docs/farm.md)");
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
   c->callback([flags] { run(*flags); });
 }

@@ -8,6 +8,7 @@
 #include "viewer/cli/method_options.h"
 #include "viewer/cli/progress.h"
 #include "viewer/cli/scene_options.h"
+#include "viewer/cli/shard_record.h"
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +37,7 @@ struct RenderFlags {
   bool quiet = false;
   double timeLimit = 0;
   float noiseThreshold = 0;
+  std::string shard;  // "K/N": plain LD, only shard K's tiles (docs/farm.md)
   SamplerKind sampler() const {
     return samplerName == "independent" ? SamplerKind::Independent : SamplerKind::LowDiscrepancy;
   }
@@ -133,11 +135,33 @@ void runLd(const RenderFlags& flags, const PreparedScene& prepared, int threads)
                   std::to_string(s.settings.height) + " " + std::to_string(s.settings.spp) +
                   " spp");
   if (!flags.quiet) options.progress = [&bar](double f) { bar.update(f); };
+  Shard shard;
+  if (!flags.shard.empty()) {
+    shard = parseShard(flags.shard);  // checked in run()
+    options.pixelMask = shardPixelMask(s.settings.width, s.settings.height, shard);
+  }
   const RenderResult result = renderImage(prepared, options);
   bar.finish();
 
   writeImage(flags.output, result.image, flags.exposure);
   if (!flags.variancePath.empty()) writeImage(flags.variancePath, result.varianceOfMean);
+  if (!flags.shard.empty()) {
+    ShardRecord record;
+    record.command = "render";
+    record.scene = flags.scene.scenePath;
+    record.sceneHash = sceneHash(s);
+    record.settings = pixelSettings(s, flags.scene, s.settings.spp, flags.seed, flags.sampler());
+    record.shard = shard;
+    record.tiles = shardTiles(s.settings.width, s.settings.height, shard);
+    record.width = s.settings.width;
+    record.height = s.settings.height;
+    record.image = flags.output;
+    record.variance = flags.variancePath;
+    record.seconds = result.seconds;
+    record.rays = result.rays;
+    record.nanSamples = result.nonFiniteSamples;
+    writeJson(shardRecordPath(flags.output), record.toJson());
+  }
   if (!flags.statsPath.empty()) writeStats(flags.statsPath, flags, s, result, threads);
   printSummary(flags, s, s.settings.spp, result.seconds, result.rays, "");
   warnNonFinite(result.nonFiniteSamples);
@@ -316,7 +340,28 @@ void applyRegion(const std::string& text, Scene& scene) {
   scene.settings.height = h;
 }
 
-void run(const RenderFlags& flags) {
+// --shard K/N: plain LD to an .exr, nothing that needs the whole image.
+void checkShard(RenderFlags& flags) {
+  try {
+    parseShard(flags.shard);
+  } catch (const std::invalid_argument& e) {
+    throw CommandError(std::string("--shard: ") + e.what());
+  }
+  const MethodSpec spec = flags.method.spec(RunShape::batch(1));
+  if (spec.kind() != MethodKind::Ld || spec.get<LdConfig>()->filter)
+    throw CommandError("--shard: only the plain LD method (--method ld, no --filter) is sharded");
+  if (flags.timeLimit > 0 || flags.noiseThreshold > 0 || !flags.aovDir.empty() ||
+      !flags.region.empty() || !flags.rawPath.empty())
+    throw CommandError(
+        "--shard renders whole tiles of the image: not with --time-limit, --noise-threshold, "
+        "--aov-dir, --raw-out or --region");
+  if (lowercaseExtension(flags.output) != ".exr")
+    throw CommandError("--output " + flags.output + ": a shard is written as .exr");
+  if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
+}
+
+void run(RenderFlags flags) {
+  if (!flags.shard.empty()) checkShard(flags);
   prepareOutputs(flags);
   Scene scene = loadSceneWithOptions(flags.scene);
   if (!flags.region.empty()) applyRegion(flags.region, scene);
@@ -389,6 +434,10 @@ void registerRenderCommand(CLI::App& app) {
                 "Adaptive methods: write the debug maps (the method's error estimate as bias; "
                 "BP also er, I', slices B and C; selected pixels, sample counts, filter scale) "
                 "as EXR and false-colour PNG into this folder");
+  c->add_option(
+      "--shard", flags->shard,
+      "K/N: plain LD only, render shard K (from 0) of N by tile, for a job array; writes "
+      "the image, its variance and OUTPUT.shard.json for `penumbra merge` (docs/farm.md)");
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
   addMethodOptions(*c, flags->method);
   c->callback([flags] { run(*flags); });

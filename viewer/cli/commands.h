@@ -20,6 +20,7 @@ void registerDiffCommand(CLI::App& app);
 void registerViewCommand(CLI::App& app);
 void registerReferenceCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
+void registerMergeCommand(CLI::App& app);
 
 // The command line as typed (argv[0] shown as "penumbra"), for records such as reports.
 std::string& commandLine();

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   penumbra::registerViewCommand(app);
   penumbra::registerReferenceCommand(app);
   penumbra::registerCompareCommand(app);
+  penumbra::registerMergeCommand(app);
   for (int i = 0; i < argc; ++i)
     penumbra::commandLine() += (i ? " " : "") + std::string(i ? argv[i] : "penumbra");
   // One line per error, naming the command: "penumbra render: error: --spp: ...".
