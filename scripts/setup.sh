@@ -1,9 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Penumbra needs (only those missing), then
 # configures and builds a Release tree in build/. Idempotent; quiet when all
-# is already there. Usage: scripts/setup.sh [--no-build]
+# is already there. Usage: scripts/setup.sh [--no-build] [--farm]
+#   --farm  also installs Slurm and munge (a one-node Slurm for scripts/farm, docs/farm.md)
+#           and python3-yaml (the Kubernetes manifest's test)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+build=1
+farm=0
+for arg in "$@"; do
+  case "$arg" in
+    --no-build) build=0 ;;
+    --farm) farm=1 ;;
+    *) echo "setup: unknown argument '$arg' (--no-build, --farm)" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake pkg-config ninja-build
@@ -16,6 +28,7 @@ packages=(
   python3 python3-matplotlib
   clang libclang-rt-14-dev
 )
+[ "$farm" -eq 1 ] && packages+=(slurm-wlm munge python3-yaml)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -29,7 +42,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-[ "${1:-}" = "--no-build" ] && exit 0
+[ "$build" -eq 1 ] || exit 0
 
 jobs=$(nproc 2>/dev/null || echo 2)
 log=$(mktemp)

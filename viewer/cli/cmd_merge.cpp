@@ -85,6 +85,12 @@ void run(MergeFlags flags) {
                        ": a merged render is linear: use .exr or .pfm");
   if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
   if (flags.statsPath.empty()) flags.statsPath = siblingPath(flags.output, "", ".json");
+  for (const std::string& path : {flags.output, flags.variancePath, flags.statsPath}) {
+    const fs::path parent = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    if (ec) throw CommandError(path + ": cannot create directory: " + ec.message());
+  }
 
   std::vector<Part> parts;
   for (const std::string& given : flags.parts) parts.push_back(readPart(given));

@@ -8,6 +8,7 @@
 #include "methods/render.h"
 #include "trace/integrator.h"
 #include "viewer/cli/commands.h"
+#include "viewer/cli/plan.h"
 #include "viewer/cli/progress.h"
 #include "viewer/cli/scene_options.h"
 #include "viewer/cli/shard_record.h"
@@ -29,7 +30,42 @@ struct ReferenceFlags {
   int threads = 0;
   bool quiet = false;
   std::string shard;  // "K/N": render only shard K's tiles (docs/farm.md)
+  std::string plan;   // a folder: write the tasks of a sharded render instead of rendering
+  int shards = 0;     // with --plan: how many
 };
+
+// --plan DIR --shards N: N tasks, each this command with --shard k/N into DIR/parts, and a
+// merge into the output.
+void writeReferencePlan(const ReferenceFlags& flags) {
+  namespace fs = std::filesystem;
+  if (flags.shards < 1) throw CommandError("--plan needs --shards N (N >= 1)");
+  if (!flags.shard.empty()) throw CommandError("--plan writes every shard's task: no --shard");
+  if (lowercaseExtension(flags.output) != ".exr")
+    throw CommandError("--output " + flags.output + ": a merged reference is written as .exr");
+  const std::string dir = fs::absolute(flags.plan).lexically_normal().string();
+  const std::vector<std::string> kept = argumentsWithout(
+      {"-o", "--output", "--plan", "--shards", "--shard", "--variance-out", "--stats"},
+      {"-q", "--quiet"}, flags.scene.scenePath);
+  std::string common = shellQuote(executablePath());
+  for (const std::string& a : kept) common += " " + shellQuote(a);
+  std::vector<std::string> tasks;
+  std::string merge = shellQuote(executablePath()) + " merge";
+  for (int k = 0; k < flags.shards; ++k) {
+    const std::string part = dir + "/parts/part_" + std::to_string(k) + ".exr";
+    tasks.push_back(common + " --shard " + std::to_string(k) + "/" + std::to_string(flags.shards) +
+                    " -o " + shellQuote(part) + " -q");
+    merge += " " + shellQuote(part);
+  }
+  const auto absolute = [](const std::string& path) {
+    return shellQuote(fs::absolute(path).lexically_normal().string());
+  };
+  merge += " -o " + absolute(flags.output) + " --variance-out " + absolute(flags.variancePath) +
+           " --stats " + absolute(flags.statsPath);
+  writePlan(dir, "reference", tasks, {merge});
+  if (!flags.quiet)
+    std::printf("%s: %d tasks (tasks.txt), then the merge into %s (finish.txt)\n", dir.c_str(),
+                flags.shards, flags.output.c_str());
+}
 
 void run(ReferenceFlags flags) {
   try {
@@ -42,6 +78,8 @@ void run(ReferenceFlags flags) {
                        ": a reference must be linear: use .exr or .pfm");
   if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
   if (flags.statsPath.empty()) flags.statsPath = siblingPath(flags.output, "", ".json");
+  if (!flags.plan.empty()) return writeReferencePlan(flags);
+  if (flags.shards > 0) throw CommandError("--shards N goes with --plan DIR (or use --shard K/N)");
   const std::filesystem::path parent = std::filesystem::path(flags.output).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
@@ -137,6 +175,12 @@ void registerReferenceCommand(CLI::App& app) {
       "--shard", flags->shard,
       "K/N: render only shard K (from 0) of N, by tile, for a job array; writes the "
       "shard's image, variance and OUTPUT.shard.json for `penumbra merge` (docs/farm.md)");
+  c->add_option("--plan", flags->plan,
+                "Write the tasks of a sharded reference into this folder instead of rendering: "
+                "tasks.txt (one command per shard) and finish.txt (the merge), for a job array "
+                "(scripts/farm, docs/farm.md)");
+  c->add_option("--shards", flags->shards, "With --plan: the number of shards")
+      ->check(CLI::Range(1, 65536));
   c->add_flag("-q,--quiet", flags->quiet, "No progress bar or summary line");
   c->callback([flags] { run(*flags); });
 }

@@ -1,6 +1,7 @@
 // Entry point of the `penumbra` executable: dispatches to the subcommands.
 #include "scene/scene.h"
 #include "viewer/cli/commands.h"
+#include "viewer/cli/plan.h"
 
 #include <cstdio>
 #include <string>
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   penumbra::registerMergeCommand(app);
   for (int i = 0; i < argc; ++i)
     penumbra::commandLine() += (i ? " " : "") + std::string(i ? argv[i] : "penumbra");
+  for (int i = 1; i < argc; ++i) penumbra::commandArguments().push_back(argv[i]);
   // One line per error, naming the command: "penumbra render: error: --spp: ...".
   auto fail = [&](const char* message, int status) {
     const auto subs = app.get_subcommands();
