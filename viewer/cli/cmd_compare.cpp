@@ -15,6 +15,7 @@
 #include "methods/render.h"
 #include "trace/integrator.h"
 #include "viewer/cli/commands.h"
+#include "viewer/cli/compare.h"
 #include "viewer/cli/method_options.h"
 #include "viewer/cli/scene_options.h"
 #include "viewer/report/report.h"
@@ -34,34 +35,6 @@
 namespace penumbra {
 
 namespace {
-
-struct CompareFlags {
-  SceneOptions scene;
-  MethodOptions method;
-  std::string methods = "ld,ld:filtered,fdiv,fuzzy,gem,bp:tuned,bp";
-  std::string referencePath, outDir, title;
-  std::vector<std::string> crops;
-  int spp = 0;  // 0: the scene's
-  int seeds = 5;
-  uint64_t firstSeed = 1;
-  double equalTime = 0;
-  bool noCurve = false;
-  int referenceSpp = 4096;
-  int threads = 0;
-  float exposure = 0;
-  bool quiet = false;
-  std::string commandLine;
-};
-
-struct Entry {
-  std::string label;
-  std::string name;
-  MethodKind kind = MethodKind::Ld;
-  std::optional<BpPreset> preset;  // bp: none (the flags'), paper or tuned
-  bool raw = false;
-  std::vector<std::string> settings;  // "name=value" of the method's parameter table
-  int spp = 0;
-};
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -83,6 +56,8 @@ int parsePositive(const std::string& what, const std::string& text) {
     throw CommandError(what + ": expected a positive whole number, got '" + text + "'");
   return v;
 }
+
+}  // namespace
 
 std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
   std::vector<Entry> entries;
@@ -135,6 +110,8 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
   if (entries.empty()) throw CommandError("--methods: no method given");
   return entries;
 }
+
+namespace {
 
 report::Crop parseCrop(const std::string& text, int index, int width, int height) {
   const auto parts = split(text, ',');
@@ -316,82 +293,119 @@ double percentile999(std::vector<double> v) {
   return v[k];
 }
 
-// `speckleLimits`: per seed, the first entry's 99.9th percentile of the per-pixel relative
-// squared error (filled by the first entry, read by the others).
-report::MethodResult runEntry(const CompareFlags& flags, const Entry& e,
-                              const PreparedScene& prepared, const Image& reference,
-                              std::vector<double>& speckleLimits) {
-  const double pixels = double(reference.width) * reference.height;
-  report::MethodResult result;
-  result.label = e.label;
-  result.spp = e.spp;
-  result.description = describe(e.kind);
+// The options of entry `e`'s method (flags plus the entry's preset).
+MethodOptions entryOptions(const CompareFlags& flags, const Entry& e) {
   MethodOptions options = flags.method;
   options.method = e.kind;
   if (e.preset) options.preset = *e.preset;
-  if (e.kind == MethodKind::Bp)
-    result.description += std::string(", ") + toString(options.preset) + " preset";
-  if (e.raw) result.description += ", before reconstruction";
-  for (int s = 0; s < flags.seeds; ++s) {
-    const uint64_t seed = flags.firstSeed + uint64_t(s);
-    // Equal time: open-ended rounds of 1 spp until the time is up.
-    const RunShape shape =
-        flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
-    MethodSpec spec{shape, options.config(e.kind, options.preset)};
-    for (const std::string& setting : e.settings)
-      applyParamSetting(spec, setting, "--methods: " + e.label);
-    BpConfig* bp = spec.get<BpConfig>();
-    if (bp && e.raw) bp->reconstruct = false;
-    if (const std::string problem = validate(spec); !problem.empty())
-      throw CommandError("--methods: " + e.label + ": " + problem);
-    if (s == 0) {
-      MethodConfig base = defaultConfig(e.kind);
-      if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
-      const std::string changes = describeChanges(spec, base);
-      if (!changes.empty()) result.description += ", " + changes;
-    }
-    const bool useRaw = e.raw || (bp && !bp->reconstruct);
-    const RunOutcome outcome =
-        runOnce(prepared, spec, RunPlan{flags.equalTime, !flags.noCurve, useRaw, &reference});
-    const std::shared_ptr<Snapshot>& snap = outcome.snap;
-    const Image& image = userImage(*snap, useRaw);
-    report::MethodRun run;
-    run.seed = seed;
-    run.metrics = compareImages(image, reference);
-    const std::vector<double> errors = relativeSquaredErrors(image, reference);
-    if (speckleLimits.size() <= size_t(s)) speckleLimits.push_back(percentile999(errors));
-    const double limit = speckleLimits[size_t(s)];
-    run.speckleShare =
-        double(std::count_if(errors.begin(), errors.end(), [&](double x) { return x > limit; })) /
-        double(errors.size());
-    run.keptSpp = double(snap->keptSamples) / pixels;
-    run.tracedSpp = double(snap->tracedSamples) / pixels;
-    run.seconds = snap->seconds - outcome.measuring;
-    run.trace = snap->times.trace;
-    run.train = snap->times.train;
-    run.select = snap->times.select;
-    run.reconstruct = snap->times.reconstruct - outcome.measuringReconstruct;
-    if (!flags.noCurve) {
-      run.curve = outcome.curve;
-      run.curve.push_back(
-          curvePoint(report::kFinalCheckpoint, run.seconds, run.metrics, run.keptSpp));
-    }
-    result.runs.push_back(run);
-    if (!flags.quiet)
-      std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
-                  e.label.c_str(), static_cast<unsigned long long>(seed), run.metrics.mse,
-                  run.metrics.toneMappedMse, run.keptSpp, run.seconds);
-    std::fflush(stdout);
-    if (s == 0) {
-      result.image = image;
-      // The maps as the method published them; a raw image was not filtered, so its
-      // filter-scale map does not describe it.
-      for (const SnapshotMap& map : snap->maps)
-        if (!(useRaw && map.id == MapId::FilterScale)) result.maps.push_back(map);
-    }
-  }
-  return result;
+  return options;
 }
+
+// The method spec of entry `e` for one seed; throws CommandError on a bad setting.
+MethodSpec entrySpec(const CompareFlags& flags, const Entry& e, uint64_t seed) {
+  const MethodOptions options = entryOptions(flags, e);
+  // Equal time: open-ended rounds of 1 spp until the time is up.
+  const RunShape shape =
+      flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
+  MethodSpec spec{shape, options.config(e.kind, options.preset)};
+  for (const std::string& setting : e.settings)
+    applyParamSetting(spec, setting, "--methods: " + e.label);
+  BpConfig* bp = spec.get<BpConfig>();
+  if (bp && e.raw) bp->reconstruct = false;
+  if (const std::string problem = validate(spec); !problem.empty())
+    throw CommandError("--methods: " + e.label + ": " + problem);
+  return spec;
+}
+
+}  // namespace
+
+std::string describeEntry(const CompareFlags& flags, const Entry& e) {
+  const MethodOptions options = entryOptions(flags, e);
+  std::string description = describe(e.kind);
+  if (e.kind == MethodKind::Bp)
+    description += std::string(", ") + toString(options.preset) + " preset";
+  if (e.raw) description += ", before reconstruction";
+  const MethodSpec spec = entrySpec(flags, e, flags.firstSeed);
+  MethodConfig base = defaultConfig(e.kind);
+  if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
+  const std::string changes = describeChanges(spec, base);
+  if (!changes.empty()) description += ", " + changes;
+  return description;
+}
+
+CompareTask runTask(const CompareFlags& flags, const Entry& e, uint64_t seed,
+                    const PreparedScene& prepared, const Image& reference) {
+  const double pixels = double(reference.width) * reference.height;
+  const MethodSpec spec = entrySpec(flags, e, seed);
+  const BpConfig* bp = spec.get<BpConfig>();
+  const bool useRaw = e.raw || (bp && !bp->reconstruct);
+  const RunOutcome outcome =
+      runOnce(prepared, spec, RunPlan{flags.equalTime, !flags.noCurve, useRaw, &reference});
+  const std::shared_ptr<Snapshot>& snap = outcome.snap;
+  CompareTask task;
+  task.image = userImage(*snap, useRaw);
+  report::MethodRun& run = task.run;
+  run.seed = seed;
+  run.metrics = compareImages(task.image, reference);
+  run.keptSpp = double(snap->keptSamples) / pixels;
+  run.tracedSpp = double(snap->tracedSamples) / pixels;
+  run.seconds = snap->seconds - outcome.measuring;
+  run.trace = snap->times.trace;
+  run.train = snap->times.train;
+  run.select = snap->times.select;
+  run.reconstruct = snap->times.reconstruct - outcome.measuringReconstruct;
+  if (!flags.noCurve) {
+    run.curve = outcome.curve;
+    run.curve.push_back(
+        curvePoint(report::kFinalCheckpoint, run.seconds, run.metrics, run.keptSpp));
+  }
+  if (!flags.quiet)
+    std::printf("%-14s seed %llu: MSE %.4g, tone-mapped %.4g, %.1f kept spp, %.2f s\n",
+                e.label.c_str(), static_cast<unsigned long long>(seed), run.metrics.mse,
+                run.metrics.toneMappedMse, run.keptSpp, run.seconds);
+  std::fflush(stdout);
+  // The maps as the method published them (the report shows the first seed's); a raw image
+  // was not filtered, so its filter-scale map does not describe it.
+  if (seed == flags.firstSeed)
+    for (const SnapshotMap& map : snap->maps)
+      if (!(useRaw && map.id == MapId::FilterScale)) task.maps.push_back(map);
+  return task;
+}
+
+std::vector<report::MethodResult> assembleResults(const CompareFlags& flags,
+                                                  const std::vector<Entry>& entries,
+                                                  std::vector<std::vector<CompareTask>>& tasks,
+                                                  const Image& reference) {
+  // Speckles: per seed, the first entry's 99.9th percentile of the per-pixel relative squared
+  // error is the limit every entry's share of pixels above it is counted against.
+  std::vector<double> speckleLimits;
+  std::vector<report::MethodResult> results;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const Entry& e = entries[i];
+    report::MethodResult result;
+    result.label = e.label;
+    result.spp = e.spp;
+    result.description = describeEntry(flags, e);
+    for (size_t s = 0; s < tasks[i].size(); ++s) {
+      CompareTask& task = tasks[i][s];
+      const std::vector<double> errors = relativeSquaredErrors(task.image, reference);
+      if (speckleLimits.size() <= s) speckleLimits.push_back(percentile999(errors));
+      const double limit = speckleLimits[s];
+      task.run.speckleShare =
+          double(std::count_if(errors.begin(), errors.end(), [&](double x) { return x > limit; })) /
+          double(errors.size());
+      result.runs.push_back(task.run);
+      if (s == 0) {
+        result.image = std::move(task.image);
+        result.maps = std::move(task.maps);
+      }
+    }
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+namespace {
 
 // The one line a user wants: who wins, by how much.
 void printWinner(const std::string& outDir, const report::CompareReport& r) {
@@ -425,6 +439,11 @@ void run(CompareFlags flags) {
   auto prepared = prepareScene(loadSceneWithOptions(flags.scene));
   const int spp = prepared->scene.settings.spp;
   const std::vector<Entry> entries = parseEntries(flags.methods, spp);
+  if (!flags.plan.empty()) {
+    for (const Entry& e : entries) describeEntry(flags, e);  // a bad setting fails here
+    return writeComparePlan(flags, entries);
+  }
+  if (!flags.taskEntry.empty()) return runCompareTask(flags, entries, *prepared);
   std::string referenceNote;
   const Image reference = loadOrRenderReference(flags, *prepared, referenceNote);
   const int threads =
@@ -448,9 +467,27 @@ void run(CompareFlags flags) {
   r.exposure = flags.exposure;
   for (size_t i = 0; i < flags.crops.size(); ++i)
     r.crops.push_back(parseCrop(flags.crops[i], int(i), reference.width, reference.height));
-  std::vector<double> speckleLimits;
-  for (const Entry& e : entries)
-    r.methods.push_back(runEntry(flags, e, *prepared, reference, speckleLimits));
+  if (!flags.collect.empty()) {
+    // The tasks ran elsewhere: their results, their thread count, and the local command.
+    int taskThreads = 0;
+    std::set<std::string> hosts;
+    r.methods = collectCompare(flags, entries, reference, taskThreads, r.commandLine,
+                               r.referencePath, hosts)
+                    .methods;
+    r.threads = taskThreads;
+    if (flags.equalTime > 0) {
+      std::string names;
+      for (const std::string& h : hosts) names += (names.empty() ? "" : ", ") + h;
+      r.mode += ", on " + names;  // equal time depends on the nodes' speed
+    }
+  } else {
+    std::vector<std::vector<CompareTask>> tasks(entries.size());
+    for (size_t i = 0; i < entries.size(); ++i)
+      for (int s = 0; s < flags.seeds; ++s)
+        tasks[i].push_back(
+            runTask(flags, entries[i], flags.firstSeed + uint64_t(s), *prepared, reference));
+    r.methods = assembleResults(flags, entries, tasks, reference);
+  }
   report::writeReport(flags.outDir, r);
   if (!flags.quiet) printWinner(flags.outDir, r);
 }
@@ -498,6 +535,17 @@ void registerCompareCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   c->add_option("--exposure", flags->exposure, "Exposure in stops for the report's images")
       ->check(CLI::Range(-40.0f, 40.0f));
+  c->add_option("--plan", flags->plan,
+                "Write the runs as tasks for a farm into this folder instead of running them: "
+                "tasks.txt (one command per method and seed) and finish.txt (--collect); needs "
+                "--reference (docs/farm.md)");
+  c->add_option("--collect", flags->collect,
+                "Build the report from the results of the tasks of this plan folder (the "
+                "arguments as for --plan)");
+  c->add_option("--task-entry", flags->taskEntry,
+                "Run one task of a plan: this --methods entry (with --task-seed), results into "
+                "--out (written by --plan)");
+  c->add_option("--task-seed", flags->taskSeed, "The seed of --task-entry");
   c->add_flag("-q,--quiet", flags->quiet, "No per-run lines or summary");
   addMethodOptions(*c, flags->method);
   c->callback([flags] {
