@@ -75,22 +75,7 @@ Image readPartImage(const std::string& named, const Part& part) {
 }
 
 void run(MergeFlags flags) {
-  try {
-    checkWritableImagePath(flags.output);
-  } catch (const ImageIoError& e) {
-    throw CommandError(std::string("--output ") + e.what());
-  }
-  if (lowercaseExtension(flags.output) == ".png")
-    throw CommandError("--output " + flags.output +
-                       ": a merged render is linear: use .exr or .pfm");
-  if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
-  if (flags.statsPath.empty()) flags.statsPath = siblingPath(flags.output, "", ".json");
-  for (const std::string& path : {flags.output, flags.variancePath, flags.statsPath}) {
-    const fs::path parent = fs::path(path).parent_path();
-    std::error_code ec;
-    if (!parent.empty()) fs::create_directories(parent, ec);
-    if (ec) throw CommandError(path + ": cannot create directory: " + ec.message());
-  }
+  prepareLinearOutputs("a merged render", flags.output, flags.variancePath, flags.statsPath);
 
   std::vector<Part> parts;
   for (const std::string& given : flags.parts) parts.push_back(readPart(given));

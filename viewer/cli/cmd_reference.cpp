@@ -68,22 +68,13 @@ void writeReferencePlan(const ReferenceFlags& flags) {
 }
 
 void run(ReferenceFlags flags) {
-  try {
-    checkWritableImagePath(flags.output);
-  } catch (const ImageIoError& e) {
-    throw CommandError(std::string("--output ") + e.what());
+  if (!flags.plan.empty()) {  // the merge writes the outputs: only their names are needed
+    if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
+    if (flags.statsPath.empty()) flags.statsPath = siblingPath(flags.output, "", ".json");
+    return writeReferencePlan(flags);
   }
-  if (lowercaseExtension(flags.output) == ".png")
-    throw CommandError("--output " + flags.output +
-                       ": a reference must be linear: use .exr or .pfm");
-  if (flags.variancePath.empty()) flags.variancePath = siblingPath(flags.output, "_var", ".exr");
-  if (flags.statsPath.empty()) flags.statsPath = siblingPath(flags.output, "", ".json");
-  if (!flags.plan.empty()) return writeReferencePlan(flags);
   if (flags.shards > 0) throw CommandError("--shards N goes with --plan DIR (or use --shard K/N)");
-  const std::filesystem::path parent = std::filesystem::path(flags.output).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (ec) throw CommandError(flags.output + ": cannot create directory: " + ec.message());
+  prepareLinearOutputs("a reference", flags.output, flags.variancePath, flags.statsPath);
 
   flags.scene.spp = flags.spp;
   Shard shard;

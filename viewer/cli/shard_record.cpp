@@ -1,5 +1,6 @@
 #include "viewer/cli/shard_record.h"
 
+#include "core/image_io.h"
 #include "viewer/cli/commands.h"
 
 #include <cstdio>
@@ -81,6 +82,25 @@ nlohmann::json referenceRecord(const std::string& scenePath, const std::string& 
   j["mean_relative_standard_error"] = converged.meanRelativeError;
   j["residual_mse"] = converged.residualMse;
   return j;
+}
+
+void prepareLinearOutputs(const std::string& what, const std::string& output,
+                          std::string& variancePath, std::string& statsPath) {
+  try {
+    checkWritableImagePath(output);
+  } catch (const ImageIoError& e) {
+    throw CommandError(std::string("--output ") + e.what());
+  }
+  if (lowercaseExtension(output) == ".png")
+    throw CommandError("--output " + output + ": " + what + " must be linear: use .exr or .pfm");
+  if (variancePath.empty()) variancePath = siblingPath(output, "_var", ".exr");
+  if (statsPath.empty()) statsPath = siblingPath(output, "", ".json");
+  for (const std::string& path : {output, variancePath, statsPath}) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    if (ec) throw CommandError(path + ": cannot create directory: " + ec.message());
+  }
 }
 
 std::string shardRecordPath(const std::string& imagePath) {

@@ -30,6 +30,12 @@ nlohmann::json pixelSettings(const Scene& scene, const SceneOptions& options, in
 std::string siblingPath(const std::string& path, const std::string& suffix,
                         const std::string& extension);
 
+// Checks a linear image output (`--output` must be writable, not .png: `what` names what is
+// written, "a reference"), fills in the defaults OUTPUT_var.exr and OUTPUT.json, and creates the
+// three files' folders. Throws CommandError naming the file.
+void prepareLinearOutputs(const std::string& what, const std::string& output,
+                          std::string& variancePath, std::string& statsPath);
+
 // The JSON record `penumbra reference` writes beside a reference (and `merge` beside the merged
 // shards): what was rendered and how converged it is.
 nlohmann::json referenceRecord(const std::string& scenePath, const std::string& image,
