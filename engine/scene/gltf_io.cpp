@@ -1,5 +1,8 @@
 #include "scene/gltf_io.h"
 
+#include "scene/gltf_accessors.h"
+#include "scene/gltf_animation.h"
+
 #include "scene/mesh_io.h"
 
 #include <tiny_gltf.h>
@@ -26,23 +29,8 @@
 namespace penumbra {
 namespace {
 
+using namespace gltf;
 namespace fs = std::filesystem;
-
-[[noreturn]] void fail(const std::string& path, const std::string& where,
-                       const std::string& message) {
-  throw SceneError(path + ": " + (where.empty() ? "" : where + ": ") + message);
-}
-
-// A factor as a user wrote it: 0.7, not 0.700000.
-std::string number(double v) {
-  std::ostringstream text;
-  text << v;
-  return text.str();
-}
-
-std::string indexed(const char* array, size_t i) {
-  return std::string(array) + "[" + std::to_string(i) + "]";
-}
 
 // ---- URIs: data: or a relative path, nothing else ------------------------------------------
 
@@ -121,131 +109,6 @@ std::vector<std::string> checkUris(const std::string& path, const std::string& j
   return files;
 }
 
-// ---- accessors ------------------------------------------------------------------------------
-
-size_t componentBytes(int type) {
-  switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-int componentCount(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return 1;
-    case TINYGLTF_TYPE_VEC2:
-      return 2;
-    case TINYGLTF_TYPE_VEC3:
-      return 3;
-    case TINYGLTF_TYPE_VEC4:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-// An accessor's elements as doubles (normalised integers scaled to [0, 1] or [-1, 1]), after
-// checking every byte it reads lies inside its buffer view and buffer.
-class AccessorReader {
- public:
-  AccessorReader(const std::string& path, const tinygltf::Model& model, int index,
-                 const std::string& where)
-      : path_(path), where_(where + " (accessors[" + std::to_string(index) + "])") {
-    if (index < 0 || size_t(index) >= model.accessors.size())
-      fail(path, where, "accessor " + std::to_string(index) + " does not exist");
-    const tinygltf::Accessor& a = model.accessors[size_t(index)];
-    if (a.sparse.isSparse) fail(path_, where_, "sparse accessors are not supported");
-    count_ = a.count;
-    components_ = componentCount(a.type);
-    componentType_ = a.componentType;
-    normalized_ = a.normalized;
-    const size_t size = componentBytes(a.componentType);
-    if (components_ == 0 || size == 0) fail(path_, where_, "unsupported accessor type");
-    element_ = size * size_t(components_);
-    if (a.bufferView < 0) return;  // all zeros, as the specification says
-    if (size_t(a.bufferView) >= model.bufferViews.size())
-      fail(path_, where_, "buffer view " + std::to_string(a.bufferView) + " does not exist");
-    const tinygltf::BufferView& view = model.bufferViews[size_t(a.bufferView)];
-    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size())
-      fail(path_, where_, "buffer " + std::to_string(view.buffer) + " does not exist");
-    const std::vector<unsigned char>& buffer = model.buffers[size_t(view.buffer)].data;
-    stride_ = view.byteStride ? view.byteStride : element_;
-    if (stride_ < element_) fail(path_, where_, "byte stride smaller than an element");
-    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-      fail(path_, where_, "buffer view runs past the end of its buffer");
-    const size_t need = count_ == 0 ? 0 : a.byteOffset + stride_ * (count_ - 1) + element_;
-    if (a.byteOffset > view.byteLength ||
-        (count_ > 0 && (stride_ * (count_ - 1)) / stride_ != count_ - 1) ||
-        need > view.byteLength || need < a.byteOffset)
-      fail(path_, where_,
-           std::to_string(count_) + " elements run past the end of their buffer view");
-    data_ = buffer.data() + view.byteOffset + a.byteOffset;
-  }
-
-  size_t count() const { return count_; }
-  int components() const { return components_; }
-  bool isFloat() const { return componentType_ == TINYGLTF_COMPONENT_TYPE_FLOAT; }
-
-  double get(size_t i, int c) const {
-    if (!data_) return 0.0;
-    const unsigned char* p = data_ + i * stride_ + size_t(c) * (element_ / size_t(components_));
-    switch (componentType_) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float v;
-        std::memcpy(&v, p, 4);
-        return v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return scaled(double(p[0]), 255.0);
-      case TINYGLTF_COMPONENT_TYPE_BYTE:
-        return std::max(scaled(double(int8_t(p[0])), 127.0), -1.0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        uint16_t v;
-        std::memcpy(&v, p, 2);
-        return scaled(double(v), 65535.0);
-      }
-      case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        int16_t v;
-        std::memcpy(&v, p, 2);
-        return std::max(scaled(double(v), 32767.0), -1.0);
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-        uint32_t v;
-        std::memcpy(&v, p, 4);
-        return double(v);
-      }
-      default: {
-        int32_t v;
-        std::memcpy(&v, p, 4);
-        return double(v);
-      }
-    }
-  }
-
-  const std::string& where() const { return where_; }
-
- private:
-  double scaled(double v, double max) const { return normalized_ ? v / max : v; }
-
-  const std::string& path_;
-  std::string where_;
-  const unsigned char* data_ = nullptr;
-  size_t count_ = 0, stride_ = 0, element_ = 0;
-  int components_ = 0, componentType_ = 0;
-  bool normalized_ = false;
-};
-
 // ---- transforms -----------------------------------------------------------------------------
 
 mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t index) {
@@ -320,56 +183,6 @@ Image imageFromGltf(const std::string& path, const tinygltf::Image& source, size
   return image;
 }
 
-// ---- animation ------------------------------------------------------------------------------
-
-// One animated property of a node: keyframe times and values (for CUBICSPLINE, three values per
-// key: in-tangent, value, out-tangent).
-struct Track {
-  enum class Path { Translation, Rotation, Scale };
-  enum class Interpolation { Linear, Step, CubicSpline };
-  Path path = Path::Translation;
-  Interpolation interpolation = Interpolation::Linear;
-  std::vector<double> times;
-  std::vector<glm::dvec4> values;
-
-  glm::dvec4 value(size_t key, int part) const {
-    return interpolation == Interpolation::CubicSpline ? values[3 * key + size_t(part)]
-                                                       : values[key];
-  }
-
-  // The property at time t (held at the first and last keys outside them).
-  glm::dvec4 at(double t) const {
-    const size_t n = times.size();
-    if (t <= times.front()) return value(0, 1);
-    if (t >= times.back()) return value(n - 1, 1);
-    const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
-    const double dt = times[k + 1] - times[k];
-    const double u = dt > 0 ? (t - times[k]) / dt : 0.0;
-    glm::dvec4 v;
-    switch (interpolation) {
-      case Interpolation::Step:
-        return value(k, 1);
-      case Interpolation::CubicSpline: {
-        const double u2 = u * u, u3 = u2 * u;
-        v = (2 * u3 - 3 * u2 + 1) * value(k, 1) + (u3 - 2 * u2 + u) * dt * value(k, 2) +
-            (-2 * u3 + 3 * u2) * value(k + 1, 1) + (u3 - u2) * dt * value(k + 1, 0);
-        break;
-      }
-      case Interpolation::Linear:
-        if (path == Path::Rotation) {
-          const glm::dquat a(value(k, 1).w, value(k, 1).x, value(k, 1).y, value(k, 1).z);
-          const glm::dquat b(value(k + 1, 1).w, value(k + 1, 1).x, value(k + 1, 1).y,
-                             value(k + 1, 1).z);
-          const glm::dquat q = glm::slerp(a, b, u);
-          return {q.x, q.y, q.z, q.w};
-        }
-        v = (1 - u) * value(k, 1) + u * value(k + 1, 1);
-        break;
-    }
-    return v;
-  }
-};
-
 // ---- the conversion -------------------------------------------------------------------------
 
 class Converter {
@@ -403,7 +216,7 @@ class Converter {
           fail(path_, where,
                "animates " + indexed("nodes", size_t(channel.target_node)) +
                    ", which has a matrix (glTF animates only translation, rotation and scale)");
-        Track track = readTrack(animation, channel, where);
+        Track track = readTrack(path_, model_, animation, channel, where);
         start = std::min(start, track.times.front());
         tracks_[size_t(channel.target_node)].push_back(std::move(track));
       }
@@ -456,7 +269,7 @@ class Converter {
   // Samples of a transform over the shutter: one (it does not move) or kSamples, evenly
   // spread from the frame time to the frame time plus the shutter.
   using Samples = std::vector<mat4>;
-  static constexpr int kSamples = 129;
+  static constexpr int kSamples = kMotionSamples;
 
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
@@ -573,58 +386,6 @@ class Converter {
     return uint32_t(defaultMaterial_);
   }
 
-  Track readTrack(const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
-                  const std::string& where) {
-    Track track;
-    if (channel.target_path == "translation")
-      track.path = Track::Path::Translation;
-    else if (channel.target_path == "rotation")
-      track.path = Track::Path::Rotation;
-    else if (channel.target_path == "scale")
-      track.path = Track::Path::Scale;
-    else
-      fail(path_, where + ".target.path", "unknown path '" + channel.target_path + "'");
-    if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
-      fail(path_, where + ".sampler",
-           "sampler " + std::to_string(channel.sampler) + " does not exist");
-    const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
-    if (sampler.interpolation == "STEP")
-      track.interpolation = Track::Interpolation::Step;
-    else if (sampler.interpolation == "CUBICSPLINE")
-      track.interpolation = Track::Interpolation::CubicSpline;
-    else if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty())
-      track.interpolation = Track::Interpolation::Linear;
-    else
-      fail(path_, where, "unknown interpolation '" + sampler.interpolation + "'");
-    const AccessorReader input(path_, model_, sampler.input, where + ".input");
-    if (input.components() != 1 || !input.isFloat() || input.count() == 0)
-      fail(path_, input.where(), "keyframe times must be a non-empty float SCALAR accessor");
-    for (size_t k = 0; k < input.count(); ++k) {
-      const double t = input.get(k, 0);
-      if (!std::isfinite(t) || (k > 0 && !(t > track.times.back())))
-        fail(path_, input.where(),
-             "keyframe time " + number(t) + " at " + std::to_string(k) +
-                 " is not finite and after the one before");
-      track.times.push_back(t);
-    }
-    const int components = track.path == Track::Path::Rotation ? 4 : 3;
-    const size_t perKey = track.interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
-    const AccessorReader output(path_, model_, sampler.output, where + ".output");
-    if (output.components() != components || output.count() != perKey * input.count())
-      fail(path_, output.where(),
-           "expected " + std::to_string(perKey * input.count()) + " VEC" +
-               std::to_string(components) + " values for " + std::to_string(input.count()) +
-               " keyframes");
-    for (size_t k = 0; k < output.count(); ++k) {
-      glm::dvec4 v(0.0);
-      for (int c = 0; c < components; ++c) v[c] = output.get(k, c);
-      if (!std::isfinite(v.x + v.y + v.z + v.w))
-        fail(path_, output.where(), "non-finite value at " + std::to_string(k));
-      track.values.push_back(v);
-    }
-    return track;
-  }
-
   // The node's local transform at animation time t: its TRS with the animated parts replaced.
   mat4 animatedLocal(const tinygltf::Node& node, size_t index, double t) const {
     glm::dvec3 translation(0.0), scale(1.0);
@@ -734,31 +495,6 @@ class Converter {
     out_.lights.push_back(out);
   }
 
-  // Segments (1, 2, 4, ... 128 of equal time) whose linear interpolation of the transform stays
-  // within 0.1% of the object's size of every sample; `radius` is the object's, about its origin.
-  static int segmentsFor(const Samples& world, float radius) {
-    const auto scaleOf = [](const mat4& m) {
-      return std::max({glm::length(vec3(m[0])), glm::length(vec3(m[1])), glm::length(vec3(m[2]))});
-    };
-    const float tolerance = 1e-3f * std::max(radius * scaleOf(world.front()), 1e-6f);
-    const int last = kSamples - 1;
-    for (int segments = 1; segments < last; segments *= 2) {
-      const int stride = last / segments;
-      float worst = 0;
-      for (int j = 0; j <= last; ++j) {
-        const int s = std::min(j / stride, segments - 1);
-        const float w = float(j - s * stride) / float(stride);
-        const mat4 d = (1 - w) * world[size_t(s * stride)] + w * world[size_t((s + 1) * stride)] -
-                       world[size_t(j)];
-        worst = std::max(worst, radius * std::max({glm::length(vec3(d[0])), glm::length(vec3(d[1])),
-                                                   glm::length(vec3(d[2]))}) +
-                                    glm::length(vec3(d[3])));
-      }
-      if (worst <= tolerance) return segments;
-    }
-    return last;
-  }
-
   // A mesh instance: into the static mesh when it does not move, else one mesh per primitive
   // with as many time steps as its motion needs.
   void addMesh(int meshIndex, const Samples& world, const std::string& from) {
@@ -781,7 +517,7 @@ class Converter {
         radius =
             std::max(radius, float(glm::length(glm::dvec3(r.get(v, 0), r.get(v, 1), r.get(v, 2)))));
     }
-    const int segments = segmentsFor(world, radius);
+    const int segments = motionSegments(world, radius);
     const int stride = (kSamples - 1) / segments;
     Samples steps;
     for (int k = 0; k <= segments; ++k) steps.push_back(world[size_t(k * stride)]);

@@ -1,0 +1,52 @@
+// Reading a glTF file's accessors for gltf_io.cpp: every byte an accessor reads checked to lie
+// inside its buffer view and buffer, normalised integers scaled, errors naming the file and
+// the element. Internal to the glTF reader.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <string>
+
+namespace penumbra::gltf {
+
+// Throws SceneError("path: where: message").
+[[noreturn]] void fail(const std::string& path, const std::string& where,
+                       const std::string& message);
+
+// A factor as a user wrote it: 0.7, not 0.700000.
+std::string number(double v);
+
+// "array[i]".
+std::string indexed(const char* array, size_t i);
+
+// An accessor's elements as doubles (normalised integers scaled to [0, 1] or [-1, 1]), after
+// checking every byte it reads lies inside its buffer view and buffer.
+class AccessorReader {
+ public:
+  AccessorReader(const std::string& path, const tinygltf::Model& model, int index,
+                 const std::string& where);
+
+  size_t count() const { return count_; }
+  int components() const { return components_; }
+  bool isFloat() const { return componentType_ == TINYGLTF_COMPONENT_TYPE_FLOAT; }
+
+  // Component c of element i.
+  double get(size_t i, int c) const;
+
+  const std::string& where() const { return where_; }
+
+ private:
+  double scaled(double v, double max) const { return normalized_ ? v / max : v; }
+
+  const std::string& path_;
+  std::string where_;
+  const unsigned char* data_ = nullptr;
+  size_t count_ = 0, stride_ = 0, element_ = 0;
+  int components_ = 0, componentType_ = 0;
+  bool normalized_ = false;
+};
+
+}  // namespace penumbra::gltf

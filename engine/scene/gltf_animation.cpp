@@ -1,0 +1,120 @@
+#include "scene/gltf_animation.h"
+
+#include "scene/gltf_accessors.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::gltf {
+
+glm::dvec4 Track::at(double t) const {
+  const size_t n = times.size();
+  if (t <= times.front()) return value(0, 1);
+  if (t >= times.back()) return value(n - 1, 1);
+  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
+  const double dt = times[k + 1] - times[k];
+  const double u = dt > 0 ? (t - times[k]) / dt : 0.0;
+  glm::dvec4 v;
+  switch (interpolation) {
+    case Interpolation::Step:
+      return value(k, 1);
+    case Interpolation::CubicSpline: {
+      const double u2 = u * u, u3 = u2 * u;
+      v = (2 * u3 - 3 * u2 + 1) * value(k, 1) + (u3 - 2 * u2 + u) * dt * value(k, 2) +
+          (-2 * u3 + 3 * u2) * value(k + 1, 1) + (u3 - u2) * dt * value(k + 1, 0);
+      break;
+    }
+    case Interpolation::Linear:
+      if (path == Path::Rotation) {
+        const glm::dquat a(value(k, 1).w, value(k, 1).x, value(k, 1).y, value(k, 1).z);
+        const glm::dquat b(value(k + 1, 1).w, value(k + 1, 1).x, value(k + 1, 1).y,
+                           value(k + 1, 1).z);
+        const glm::dquat q = glm::slerp(a, b, u);
+        return {q.x, q.y, q.z, q.w};
+      }
+      v = (1 - u) * value(k, 1) + u * value(k + 1, 1);
+      break;
+  }
+  return v;
+}
+
+Track readTrack(const std::string& path_, const tinygltf::Model& model_,
+                const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
+                const std::string& where) {
+  Track track;
+  if (channel.target_path == "translation")
+    track.path = Track::Path::Translation;
+  else if (channel.target_path == "rotation")
+    track.path = Track::Path::Rotation;
+  else if (channel.target_path == "scale")
+    track.path = Track::Path::Scale;
+  else
+    fail(path_, where + ".target.path", "unknown path '" + channel.target_path + "'");
+  if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
+    fail(path_, where + ".sampler",
+         "sampler " + std::to_string(channel.sampler) + " does not exist");
+  const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
+  if (sampler.interpolation == "STEP")
+    track.interpolation = Track::Interpolation::Step;
+  else if (sampler.interpolation == "CUBICSPLINE")
+    track.interpolation = Track::Interpolation::CubicSpline;
+  else if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty())
+    track.interpolation = Track::Interpolation::Linear;
+  else
+    fail(path_, where, "unknown interpolation '" + sampler.interpolation + "'");
+  const AccessorReader input(path_, model_, sampler.input, where + ".input");
+  if (input.components() != 1 || !input.isFloat() || input.count() == 0)
+    fail(path_, input.where(), "keyframe times must be a non-empty float SCALAR accessor");
+  for (size_t k = 0; k < input.count(); ++k) {
+    const double t = input.get(k, 0);
+    if (!std::isfinite(t) || (k > 0 && !(t > track.times.back())))
+      fail(path_, input.where(),
+           "keyframe time " + number(t) + " at " + std::to_string(k) +
+               " is not finite and after the one before");
+    track.times.push_back(t);
+  }
+  const int components = track.path == Track::Path::Rotation ? 4 : 3;
+  const size_t perKey = track.interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
+  const AccessorReader output(path_, model_, sampler.output, where + ".output");
+  if (output.components() != components || output.count() != perKey * input.count())
+    fail(path_, output.where(),
+         "expected " + std::to_string(perKey * input.count()) + " VEC" +
+             std::to_string(components) + " values for " + std::to_string(input.count()) +
+             " keyframes");
+  for (size_t k = 0; k < output.count(); ++k) {
+    glm::dvec4 v(0.0);
+    for (int c = 0; c < components; ++c) v[c] = output.get(k, c);
+    if (!std::isfinite(v.x + v.y + v.z + v.w))
+      fail(path_, output.where(), "non-finite value at " + std::to_string(k));
+    track.values.push_back(v);
+  }
+  return track;
+}
+
+int motionSegments(const std::vector<glm::mat4>& world, float radius) {
+  const auto scaleOf = [](const mat4& m) {
+    return std::max({glm::length(vec3(m[0])), glm::length(vec3(m[1])), glm::length(vec3(m[2]))});
+  };
+  const float tolerance = 1e-3f * std::max(radius * scaleOf(world.front()), 1e-6f);
+  const int last = kMotionSamples - 1;
+  for (int segments = 1; segments < last; segments *= 2) {
+    const int stride = last / segments;
+    float worst = 0;
+    for (int j = 0; j <= last; ++j) {
+      const int s = std::min(j / stride, segments - 1);
+      const float w = float(j - s * stride) / float(stride);
+      const mat4 d = (1 - w) * world[size_t(s * stride)] + w * world[size_t((s + 1) * stride)] -
+                     world[size_t(j)];
+      worst = std::max(worst, radius * std::max({glm::length(vec3(d[0])), glm::length(vec3(d[1])),
+                                                 glm::length(vec3(d[2]))}) +
+                                  glm::length(vec3(d[3])));
+    }
+    if (worst <= tolerance) return segments;
+  }
+  return last;
+}
+
+}  // namespace penumbra::gltf

@@ -1,0 +1,51 @@
+// glTF node animation for gltf_io.cpp: a channel's keyframes read and checked, sampled at any
+// time (LINEAR with slerp for rotations, STEP, CUBICSPLINE), and the number of time steps a
+// motion needs. Internal to the glTF reader; docs/scene-format.md says what it does.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>
+
+#include <glm/vec4.hpp>
+
+#include <string>
+#include <vector>
+
+namespace penumbra::gltf {
+
+// One animated property of a node: keyframe times and values (for CUBICSPLINE, three values per
+// key: in-tangent, value, out-tangent).
+struct Track {
+  enum class Path { Translation, Rotation, Scale };
+  enum class Interpolation { Linear, Step, CubicSpline };
+  Path path = Path::Translation;
+  Interpolation interpolation = Interpolation::Linear;
+  std::vector<double> times;
+  std::vector<glm::dvec4> values;
+
+  glm::dvec4 value(size_t key, int part) const {
+    return interpolation == Interpolation::CubicSpline ? values[3 * key + size_t(part)]
+                                                       : values[key];
+  }
+
+  // The property at time t (held at the first and last keys outside them); rotations by
+  // slerp, CUBICSPLINE by glTF's Hermite formula.
+  glm::dvec4 at(double t) const;
+};
+
+// Reads `channel`'s sampler: keyframe times (finite, increasing) and values (VEC3, or VEC4 for a
+// rotation; three per key for CUBICSPLINE). Throws SceneError naming `where`.
+Track readTrack(const std::string& path, const tinygltf::Model& model,
+                const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
+                const std::string& where);
+
+// The samples of a transform over the shutter that motion is measured on.
+constexpr int kMotionSamples = 129;
+
+// The fewest segments (1, 2, 4, ... 128 of equal time) whose linear interpolation of `world`
+// (kMotionSamples transforms evenly over the shutter) stays within 0.1% of the object's size
+// of every sample; `radius` is the object's, about its origin.
+int motionSegments(const std::vector<glm::mat4>& world, float radius);
+
+}  // namespace penumbra::gltf
