@@ -15,12 +15,19 @@ its GENERATED markers) is rewritten, the hand-written part is kept.
 Usage: scripts/reproduce.py [--seeds 5] [--ref-spp 8192] [--out out/repro] [--quick]
   --quick: 48x48 images, 1 seed, 256-spp references, a reduced sweep: a smoke test of the
   whole pipeline in a minute (writes to --docs, default docs/RESULTS.md: give another path).
+  --plan DIR [--submit CMD]: on a farm (docs/farm.md), in stages: each call writes the next
+  stage DIR/stage-K, the references (sharded) and compare runs whose inputs exist, as
+  tasks.txt, and as finish.txt their merges and collects, then this command again, which
+  plans the stage after; the last stage writes RESULTS.md. --submit CMD submits each stage
+  (CMD STAGE_DIR, e.g. scripts/farm/submit_slurm.sh). --collect DIR writes RESULTS.md from
+  a finished plan's results (an error names what is missing).
 Uses Debian's python3 with python3-matplotlib (scripts/setup.sh installs it).
 """
 import argparse
 import json
 import math
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -60,10 +67,41 @@ def log(text):
     print("reproduce: " + text, file=sys.stderr, flush=True)
 
 
+class PendingError(Exception):
+    """A result a later stage of a plan makes was needed (--plan)."""
+
+
+class Pending:
+    """A result not made yet (--plan): indexing it gives itself; using its value raises."""
+
+    def __getitem__(self, key):
+        return self
+
+    def get(self, key, default=None):
+        return self
+
+    def _pending(self, *args, **kwargs):
+        raise PendingError()
+
+    __bool__ = __iter__ = __float__ = __int__ = __round__ = __format__ = __lt__ = __gt__ = \
+        __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = \
+        __rtruediv__ = __len__ = _pending
+
+
 class Runner:
+    """Runs the reproduction's commands here; or, with --plan, writes the ones whose inputs
+    exist as the next stage's tasks and hands out Pending results; or, with --collect, only
+    reads results."""
+
     def __init__(self, args):
         self.args = args
         self.size = ["--size", "%dx%d" % (args.size, args.size)] if args.size else []
+        self.plan = args.plan or args.collect
+        self.tasks, self.finish, self.pending = [], [], 0
+        if args.plan:
+            os.makedirs(args.plan, exist_ok=True)
+            stages = [d for d in os.listdir(args.plan) if d.startswith("stage-")]
+            self.stage = os.path.abspath(os.path.join(args.plan, "stage-%d" % (len(stages) + 1)))
 
     def run(self, cmd):
         start = time.time()
@@ -71,6 +109,21 @@ class Runner:
         if result.returncode != 0:
             sys.exit("reproduce: command failed: %s\n%s" % (" ".join(cmd), result.stderr))
         return time.time() - start
+
+    def later(self, what, cmd, sub):
+        """--plan: writes `cmd --plan STAGE/sub` and takes its tasks into this stage; --collect:
+        a missing result is an error."""
+        if self.args.collect:
+            sys.exit("reproduce: %s is missing: the plan %s has not finished"
+                     % (what, self.args.collect))
+        plan = os.path.join(self.stage, sub)
+        self.run(cmd + ["--plan", plan])
+        with open(os.path.join(plan, "tasks.txt")) as f:
+            self.tasks += [line for line in f.read().splitlines() if line]
+        with open(os.path.join(plan, "finish.txt")) as f:
+            self.finish += [line for line in f.read().splitlines() if line]
+        self.pending += 1
+        return Pending()
 
     def reference(self, scene, refs=None):
         return os.path.join(refs or self.args.refs, scene + ".exr")
@@ -85,11 +138,15 @@ class Runner:
             with open(record) as f:
                 j = json.load(f)
             ok = j.get("spp") == spp and (not self.args.size or j.get("width") == self.args.size)
+        cmd = [self.args.penumbra, "reference", "scenes/%s.json" % scene, "--spp", str(spp),
+               "-o", ref, "-q"] + self.size
+        if not ok and self.plan:
+            return self.later("the %s reference" % ref, cmd + ["--shards", str(self.args.shards)],
+                              "reference_%s_%s" % (os.path.basename(refs), scene))
         if not ok:
             log("rendering the %s reference at %d spp into %s" % (scene, spp, refs))
             os.makedirs(refs, exist_ok=True)
-            self.run([self.args.penumbra, "reference", "scenes/%s.json" % scene, "--spp",
-                      str(spp), "-o", ref, "-q"] + self.size)
+            self.run(cmd)
         with open(record) as f:
             return json.load(f)
 
@@ -101,20 +158,44 @@ class Runner:
                "--spp", str(spp), "--seeds", str(seeds or self.args.seeds),
                "--reference", self.reference(scene, refs), "--out", out, "-q"] + self.size + \
             list(extra)
-        if self.args.resume and os.path.exists(results):
+        if (self.args.resume or self.plan) and os.path.exists(results):
             with open(results) as f:
                 kept = json.load(f)
             # compare records its own command line, the program named `penumbra`.
             if kept.get("command_line") == " ".join(["penumbra"] + cmd[1:]):
                 log("%-28s kept (--resume)" % name)
                 return kept
+        if self.plan:
+            if not os.path.exists(self.reference(scene, refs)):
+                self.pending += 1  # planned once its reference exists
+                return Pending()
+            return self.later("compare %s" % name, cmd, name)
         seconds = self.run(cmd)
         log("%-28s %6.1f s" % (name, seconds))
         with open(results) as f:
             return json.load(f)
 
+    def write_stage(self):
+        """--plan: writes this stage (its tasks; as finish, their merges and collects, then this
+        command again) and submits it with --submit."""
+        if not self.tasks:
+            sys.exit("reproduce: results are pending but nothing can run: a reference failed?")
+        again = "cd %s && %s %s" % (shlex.quote(os.getcwd()), shlex.quote(sys.executable),
+                                    " ".join(shlex.quote(a) for a in
+                                             [os.path.abspath(sys.argv[0])] + sys.argv[1:]))
+        os.makedirs(self.stage, exist_ok=True)
+        for name, lines in (("tasks.txt", self.tasks), ("finish.txt", self.finish + [again])):
+            with open(os.path.join(self.stage, name), "w") as f:
+                f.write("".join(line + "\n" for line in lines))
+        log("%s: %d tasks for %d runs; its finish plans the next stage"
+            % (self.stage, len(self.tasks), self.pending))
+        if self.args.submit:
+            self.run(shlex.split(self.args.submit) + [self.stage])
+
 
 def by_label(results):
+    if isinstance(results, Pending):
+        return results
     return {m["label"]: m for m in results["methods"]}
 
 
@@ -155,6 +236,12 @@ def main():
                     help="keep the runs of an earlier, interrupted call whose command line was "
                          "the same (results.json's command_line); the build must not have "
                          "changed what they measure")
+    ap.add_argument("--plan", default="", help="write the next stage of a farm plan into this "
+                    "folder (docs/farm.md)")
+    ap.add_argument("--submit", default="", help="with --plan: submit each stage with this "
+                    "command and the stage's folder, e.g. scripts/farm/submit_slurm.sh")
+    ap.add_argument("--shards", type=int, default=4, help="with --plan: shards per reference")
+    ap.add_argument("--collect", default="", help="write RESULTS.md from a finished plan")
     ap.add_argument("--only", choices=("all", "quality", "paper"), default="all",
                     help="quality: only the quality-per-second experiments; paper: only the "
                     "paper's")
@@ -184,10 +271,15 @@ def main():
         for scene in quality_per_second.SCENES:
             if scene not in ref_records:
                 ref_records[scene] = r.ensure_reference(scene, args.refs, args.ref_spp)
-        quality_per_second.write(args.docs,
-                                 quality_per_second.run(r, args, figures, ref_records))
-        log("quality per second written to %s" % args.docs)
+        try:
+            quality_per_second.write(args.docs,
+                                     quality_per_second.run(r, args, figures, ref_records))
+            log("quality per second written to %s" % args.docs)
+        except PendingError:
+            pass  # --plan: a later stage writes it
         if args.only == "quality":
+            if r.pending:
+                r.write_stage()
             return
 
     # E1-E4 at equal kept spp, then at equal time (BP tuned's time).
@@ -195,15 +287,22 @@ def main():
     for exp, scene, spp, _, _ in SCENES:
         methods = METHODS + (",ld@64" if scene == "tire" else "")
         main_results[scene] = res = r.compare(exp + "_" + scene, scene, spp, methods)
-        seconds = by_label(res)["bp:tuned"]["seconds"]["mean"]
-        time_results[scene] = r.compare(exp + "_" + scene + "_equal_time", scene, spp,
-                                        "ld,fdiv,gem,bp:tuned",
-                                        ["--equal-time", "%.2f" % seconds],
-                                        seeds=args.sweep_seeds)
+        try:  # --plan: BP's time is known once its run is done
+            seconds = by_label(res)["bp:tuned"]["seconds"]["mean"]
+            time_results[scene] = r.compare(exp + "_" + scene + "_equal_time", scene, spp,
+                                            "ld,fdiv,gem,bp:tuned",
+                                            ["--equal-time", "%.2f" % seconds],
+                                            seeds=args.sweep_seeds)
+        except PendingError:
+            time_results[scene] = Pending()
+            r.pending += 1
     # The 16 vs 64 claim at equal traced rays: LD at the paper configuration's traced spp.
-    traced = by_label(main_results["tire"])["bp:paper"]["traced_spp"]["mean"]
-    rays_spp = max(1, int(round(traced)))
-    rays_results = r.compare("E3_tire_equal_rays", "tire", 16, "ld@%d" % rays_spp)
+    try:
+        traced = by_label(main_results["tire"])["bp:paper"]["traced_spp"]["mean"]
+        rays_spp = max(1, int(round(traced)))
+        rays_results = r.compare("E3_tire_equal_rays", "tire", 16, "ld@%d" % rays_spp)
+    except PendingError:
+        r.pending += 1
 
     # Fig. 7: MSE against spp on the balls.
     sweep = [8, 16, 32, 64, 128] if not args.quick else [8, 16]
@@ -227,6 +326,9 @@ def main():
         for i, (label, flags, _) in enumerate(ABLATIONS):
             ablations[(scene, label)] = r.compare("ablation_%s_%d" % (scene, i), scene, spp,
                                                   "bp:paper", flags, seeds=args.sweep_seeds)
+    if r.pending:  # --plan: this stage's tasks written; a later stage writes RESULTS.md
+        r.write_stage()
+        return
     total = time.time() - started
 
     # ---- Plots ---------------------------------------------------------------------
