@@ -339,8 +339,9 @@ class Converter {
                                   0.0f, 1.0f);
     out.ior = float(extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5));
     if (!(out.ior >= 1.0f && out.ior < 10.0f)) out.ior = 1.5f;
-    if (pbr.metallicRoughnessTexture.index >= 0)
-      warn(where + ": metallicRoughnessTexture is not read (the factors are)");
+    out.metallicRoughnessTexture =
+        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                where + ".metallicRoughnessTexture", Texels::Data, vec3(1.0f));
     if (m.extensions.count("KHR_materials_transmission") &&
         m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
       warn(where + ": transmissionTexture is not read (the factor is)");

@@ -60,19 +60,20 @@ struct Material {
   enum class Type { Diffuse, Conductor, Mirror, Dielectric, Pbr };
   Type type = Type::Diffuse;
   std::string name;
-  int albedoTexture = -1;      // Diffuse: index into Scene::textures; -1 uses `albedo`
-  vec3 albedo = vec3(0.8f);    // Diffuse reflectance, or Conductor/Mirror tint (F0)
-  float roughness = 0.2f;      // Conductor: GGX alpha = roughness^2
-  float ior = 1.5f;            // Dielectric index of refraction
-  vec3 emission = vec3(0.0f);  // radiance emitted on the front side (CCW normal)
-  float metallic = 0.0f;       // Pbr: weight of the conductor
-  float transmission = 0.0f;   // Pbr: share of glass in the non-metallic part
-  int emissionTexture = -1;    // multiplies `emission`; -1: uniform
-  int normalTexture = -1;      // tangent-space normal map (linear, +y along +v); -1: none
-  float normalScale = 1.0f;    // scales the map's x and y
-  int alphaTexture = -1;       // cut-out: coverage in the texture's first channel; -1: none
-  float alpha = 1.0f;          // coverage factor (times the texture's)
-  float alphaCutoff = -1.0f;   // coverage below it is a hole; negative: opaque
+  int albedoTexture = -1;             // Diffuse: index into Scene::textures; -1 uses `albedo`
+  vec3 albedo = vec3(0.8f);           // Diffuse reflectance, or Conductor/Mirror tint (F0)
+  float roughness = 0.2f;             // Conductor: GGX alpha = roughness^2
+  float ior = 1.5f;                   // Dielectric index of refraction
+  vec3 emission = vec3(0.0f);         // radiance emitted on the front side (CCW normal)
+  float metallic = 0.0f;              // Pbr: weight of the conductor
+  float transmission = 0.0f;          // Pbr: share of glass in the non-metallic part
+  int metallicRoughnessTexture = -1;  // Pbr: roughness x green, metallic x blue (linear data)
+  int emissionTexture = -1;           // multiplies `emission`; -1: uniform
+  int normalTexture = -1;             // tangent-space normal map (linear, +y along +v); -1: none
+  float normalScale = 1.0f;           // scales the map's x and y
+  int alphaTexture = -1;              // cut-out: coverage in the texture's first channel; -1: none
+  float alpha = 1.0f;                 // coverage factor (times the texture's)
+  float alphaCutoff = -1.0f;          // coverage below it is a hole; negative: opaque
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   bool hasCutouts() const { return alphaCutoff >= 0.0f; }
 };

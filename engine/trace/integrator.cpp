@@ -30,12 +30,18 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.type = m.type;
   b.color = m.albedoTexture >= 0 ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv)
                                  : m.albedo;
+  float metallic = m.metallic, roughness = m.roughness;
+  if (m.metallicRoughnessTexture >= 0) {
+    const vec3 t = evalTexture(scene, scene.textures[size_t(m.metallicRoughnessTexture)], s.uv);
+    roughness *= t.y;
+    metallic *= std::clamp(t.z, 0.0f, 1.0f);
+  }
   if (m.type == Material::Type::Pbr) {
-    b.conductorWeight = m.metallic;
-    b.dielectricWeight = (1.0f - m.metallic) * m.transmission;
+    b.conductorWeight = metallic;
+    b.dielectricWeight = (1.0f - metallic) * m.transmission;
     b.diffuseWeight = std::max(0.0f, 1.0f - b.conductorWeight - b.dielectricWeight);
   }
-  const float alpha = m.roughness * m.roughness;
+  const float alpha = roughness * roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
   b.ior = m.ior;
   b.frame = makeFrame(s.shadingNormal);

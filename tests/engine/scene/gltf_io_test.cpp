@@ -301,6 +301,7 @@ TEST(Gltf, NormalMapsCutoutsAndEmissionTexturesAreRead) {
   paint["alphaMode"] = "MASK";
   paint["alphaCutoff"] = 0.3;
   paint["normalTexture"] = {{"index", 1}, {"scale", 0.5}};
+  paint["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
   j["materials"][2]["emissiveTexture"] = {{"index", 0}};
   const GltfData g = loadGltf(writeGltf("maps.gltf", j));
   const Material& m = g.materials[0];
@@ -316,6 +317,8 @@ TEST(Gltf, NormalMapsCutoutsAndEmissionTexturesAreRead) {
   const Image& normals = g.images[size_t(g.textures[size_t(m.normalTexture)].imageIndex)];
   EXPECT_NEAR(normals.pixels[0].y, 1.0f, 1e-6f);
   EXPECT_NEAR(normals.pixels[0].x, 128.0f / 255.0f, 1e-6f) << "normal maps are data, not sRGB";
+  // The metallic-roughness texture is data too: the same image, converted once.
+  EXPECT_EQ(m.metallicRoughnessTexture, m.normalTexture);
   // The emissive material shares the colour conversion of image 0 (factor 1): one image.
   const Material& lamp = g.materials[2];
   ASSERT_GE(lamp.emissionTexture, 0);
@@ -499,7 +502,6 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["textures"] = {{{"source", 0}}};
   j["materials"][0]["alphaMode"] = "BLEND";
   j["materials"][0]["occlusionTexture"] = {{"index", 0}};
-  j["materials"][1]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
   j["materials"][1]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
   j["extensionsUsed"].push_back("KHR_materials_sheen");
   j["skins"] = Json::array();
@@ -508,7 +510,6 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   for (const std::string& w : g.warnings) all += w + "\n";
   for (const char* part : {"materials[0]: alphaMode BLEND is drawn opaque",
                            "materials[0]: occlusionTexture is ignored",
-                           "materials[1]: metallicRoughnessTexture is not read",
                            "materials[1].normalTexture: uv set 1 is not read",
                            "extension KHR_materials_sheen is not supported"})
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;

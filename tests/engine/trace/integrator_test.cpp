@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -252,7 +253,8 @@ TEST(Integrator, PunctualLightsFollowTheInverseSquareLawAndTheirCones) {
 
 // A plane of `material` seen at 45 degrees under a disk light straight above the point seen,
 // direct light only: a diffuse plane reflects the light, a smooth metal mirrors the dark sky.
-ImageMean planeUnderDisk(const std::string& material) {
+ImageMean planeUnderDisk(const std::string& material,
+                         const std::function<void(Scene&)>& change = nullptr) {
   Scene scene = sceneFrom(R"({
     "render": {"width": 8, "height": 8, "max_depth": 1},
     "camera": {"eye": [0, 1, 1], "look_at": [0, 0, 0], "fov": 1},
@@ -263,6 +265,7 @@ ImageMean planeUnderDisk(const std::string& material) {
       {"shape": "rectangle", "size": [100, 100], "material": "ground"},
       {"shape": "disk", "radius": 0.5, "segments": 256, "material": "lamp",
        "transform": {"translate": [0, 2, 0], "rotate": [180, 1, 0, 0]}}]})");
+  if (change) change(scene);
   return imageMean(renderScene(std::move(scene), 1024));
 }
 
@@ -280,6 +283,25 @@ TEST(Integrator, PbrMaterialIsTheWeightedMixOfItsParts) {
                                    diffuse.standardError * diffuse.standardError +
                                    metal.standardError * metal.standardError);
     EXPECT_NEAR(mix.mean, expected, std::max(4 * error, 1e-3)) << "metallic " << metallic;
+  }
+  // glTF's metallic-roughness texture scales the factors per texel: blue 0 takes the metal
+  // away, leaving the diffuse part; blue 1 keeps it.
+  for (const float blue : {0.0f, 1.0f}) {
+    const ImageMean textured = planeUnderDisk(
+        R"({"type": "pbr", "albedo": 0.6, "roughness": 0.3, "metallic": 1})", [&](Scene& scene) {
+          Image texel(1, 1);
+          texel.pixels[0] = vec3(0.0f, 1.0f, blue);
+          scene.images.push_back(texel);
+          Texture t;
+          t.kind = Texture::Kind::Image;
+          t.imageIndex = int(scene.images.size() - 1);
+          scene.textures.push_back(t);
+          scene.materials[0].metallicRoughnessTexture = int(scene.textures.size() - 1);
+        });
+    const ImageMean& expected = blue == 0.0f ? diffuse : metal;
+    EXPECT_NEAR(textured.mean, expected.mean,
+                std::max(4 * std::hypot(textured.standardError, expected.standardError), 1e-3))
+        << "blue " << blue;
   }
   // Full transmission is glass: invisible under a uniform sky.
   const ImageMean glass = imageMean(sphereUnderWhiteSky(
