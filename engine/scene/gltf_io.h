@@ -6,8 +6,8 @@
 // and the first uv set, placed by the default scene's node hierarchy (TRS or matrix); the
 // metallic-roughness material (Material::Type::Pbr: base colour factor and texture, metallic
 // and roughness factors and texture, KHR_materials_transmission and _ior, normal maps,
-// alphaMode MASK as cut-outs); emissive factors and textures (with KHR_materials_emissive_strength) as area
-// lights; KHR_lights_punctual lights; node animation (translation, rotation, scale; linear,
+// alphaMode MASK as cut-outs); emissive factors and textures (with KHR_materials_emissive_strength)
+// as area lights; KHR_lights_punctual lights; node animation (translation, rotation, scale; linear,
 // step, cubic spline) as motion blur; the first perspective camera, or the one named. Buffers and
 // images are read from data: URIs, the .glb's binary chunk, or files by relative path only: a URI
 // with a scheme (a network location) or an absolute path is refused.

@@ -238,9 +238,8 @@ RunOutcome runOnce(const PreparedScene& prepared, const MethodSpec& spec, const 
   return out;
 }
 
-// The reference the methods are measured against: the given file, or one rendered (low
-// discrepancy, same integrator) into DIR so that the next comparison can reuse it. `note`
-// says where a rendered one came from.
+}  // namespace
+
 Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, std::string& note) {
   const RenderSettings& settings = prepared.scene.settings;
   Image reference;
@@ -272,6 +271,8 @@ Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, 
                        std::to_string(settings.height) + " (give --size)");
   return reference;
 }
+
+namespace {
 
 // One entry of --methods over every seed: its runs' metrics, and the first seed's image and
 // maps.
@@ -472,8 +473,7 @@ void run(CompareFlags flags) {
     int taskThreads = 0;
     std::set<std::string> hosts;
     r.methods = collectCompare(flags, entries, reference, taskThreads, r.commandLine,
-                               r.referencePath, hosts)
-                    .methods;
+                               r.referencePath, hosts);
     r.threads = taskThreads;
     if (flags.equalTime > 0) {
       std::string names;

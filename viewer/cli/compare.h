@@ -52,6 +52,11 @@ struct Entry {
   int spp = 0;
 };
 
+// The reference the methods are measured against: the given file (checked against the render's
+// size), or one rendered (low discrepancy, same integrator) into --out so that the next
+// comparison can reuse it; `note` says where a rendered one came from.
+Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, std::string& note);
+
 // Parses --methods; throws CommandError naming the entry.
 std::vector<Entry> parseEntries(const std::string& list, int defaultSpp);
 
@@ -85,8 +90,11 @@ void runCompareTask(const CompareFlags& flags, const std::vector<Entry>& entries
 // returns the report's methods, and sets the tasks' largest thread count, the local command
 // line the plan stands for, the reference's path as it was given, and the hosts the tasks ran
 // on.
-report::CompareReport collectCompare(const CompareFlags& flags, const std::vector<Entry>& entries,
-                                     const Image& reference, int& threads, std::string& commandLine,
-                                     std::string& referenceAsGiven, std::set<std::string>& hosts);
+std::vector<report::MethodResult> collectCompare(const CompareFlags& flags,
+                                                 const std::vector<Entry>& entries,
+                                                 const Image& reference, int& threads,
+                                                 std::string& commandLine,
+                                                 std::string& referenceAsGiven,
+                                                 std::set<std::string>& hosts);
 
 }  // namespace penumbra

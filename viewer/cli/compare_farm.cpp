@@ -112,23 +112,6 @@ std::string taskFolder(const std::string& plan, size_t task) {
   return (fs::path(plan) / "runs" / std::to_string(task)).string();
 }
 
-// Loads the reference a plan's tasks measure against (checked as a local compare checks it).
-Image readReference(const CompareFlags& flags, const PreparedScene& prepared) {
-  Image reference;
-  try {
-    reference = readImage(flags.referencePath);
-  } catch (const ImageIoError& e) {
-    throw CommandError(std::string("--reference ") + e.what());
-  }
-  const RenderSettings& s = prepared.scene.settings;
-  if (reference.width != s.width || reference.height != s.height)
-    throw CommandError("--reference " + flags.referencePath + " is " +
-                       std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                       " but the render is " + std::to_string(s.width) + "x" +
-                       std::to_string(s.height) + " (give --size)");
-  return reference;
-}
-
 }  // namespace
 
 void writeComparePlan(const CompareFlags& flags, const std::vector<Entry>& entries) {
@@ -178,7 +161,9 @@ void runCompareTask(const CompareFlags& flags, const std::vector<Entry>& entries
   for (const Entry& e : entries)
     if (e.label == flags.taskEntry) entry = &e;
   if (!entry) throw CommandError("--task-entry: '" + flags.taskEntry + "' is not in --methods");
-  const Image reference = readReference(flags, prepared);
+  CompareFlags given = flags;  // --reference is given: read and checked, never rendered
+  std::string unused;
+  const Image reference = loadOrRenderReference(given, prepared, unused);
   CompareTask task = runTask(flags, *entry, *flags.taskSeed, prepared, reference);
   fs::create_directories(fs::path(flags.outDir) / "maps");
   writeImage((fs::path(flags.outDir) / "image.exr").string(), task.image);
@@ -256,9 +241,12 @@ CompareTask readCompareTask(const std::string& plan, size_t index, const std::st
   return task;
 }
 
-report::CompareReport collectCompare(const CompareFlags& flags, const std::vector<Entry>& entries,
-                                     const Image& reference, int& threads, std::string& commandLine,
-                                     std::string& referenceAsGiven, std::set<std::string>& hosts) {
+std::vector<report::MethodResult> collectCompare(const CompareFlags& flags,
+                                                 const std::vector<Entry>& entries,
+                                                 const Image& reference, int& threads,
+                                                 std::string& commandLine,
+                                                 std::string& referenceAsGiven,
+                                                 std::set<std::string>& hosts) {
   const std::string plan = flags.collect;
   std::ifstream in((fs::path(plan) / "compare.json").string());
   if (!in) throw CommandError(plan + ": no compare.json (not a compare plan)");
@@ -275,9 +263,7 @@ report::CompareReport collectCompare(const CompareFlags& flags, const std::vecto
     for (int s = 0; s < flags.seeds; ++s, ++index)
       tasks[i].push_back(readCompareTask(plan, index, entries[i].label,
                                          flags.firstSeed + uint64_t(s), reference, hosts, threads));
-  report::CompareReport r;
-  r.methods = assembleResults(flags, entries, tasks, reference);
-  return r;
+  return assembleResults(flags, entries, tasks, reference);
 }
 
 }  // namespace penumbra
