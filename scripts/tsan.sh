@@ -12,4 +12,4 @@ scripts/setup.sh --no-build
 source scripts/sanitized_build.sh
 sanitized_build build-tsan thread penumbra
 export TSAN_OPTIONS="halt_on_error=1:exitcode=66:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp"
-bash tests/viewer/window_test.sh "$PWD/build-tsan/penumbra" "$PWD" "$PWD/build-tsan/window" --threads 1
+bash tests/viewer/app/window_test.sh "$PWD/build-tsan/penumbra" "$PWD" "$PWD/build-tsan/window" --threads 1

@@ -14,11 +14,12 @@
 // after each round is the same whatever the number of threads.
 #pragma once
 
-#include "methods/common.h"
+#include "core/clock.h"
 #include "methods/params.h"
 #include "methods/progressive.h"
 #include "methods/run_shape.h"
 #include "methods/schedule.h"
+#include "methods/trace_chunk.h"
 #include "trace/integrator.h"
 #include "trace/sampler.h"
 
@@ -135,7 +136,7 @@ class AllocationMethod : public ProgressiveMethod {
   uint64_t drawnTotal_ = 0;
   method::Counters counters_;
   PhaseTimes times_;
-  method::Clock::time_point start_;
+  Clock::time_point start_;
 };
 
 }  // namespace penumbra

@@ -4,13 +4,14 @@
 // the end, `renderImage` (render.h) and the references.
 #pragma once
 
-#include "methods/common.h"
+#include "core/clock.h"
 #include "methods/film.h"
 #include "methods/params.h"
 #include "methods/progressive.h"
 #include "methods/recon/denoise.h"
 #include "methods/run_shape.h"
 #include "methods/schedule.h"
+#include "methods/trace_chunk.h"
 #include "trace/integrator.h"
 
 #include <glm/vec3.hpp>
@@ -41,7 +42,7 @@ class LdMethod final : public ProgressiveMethod {
 
   void runRound(const std::atomic<bool>* cancel) override;
   bool done() const override {
-    return schedule_.finished(drawn_) || stoppedByRule(shape_, method::secondsSince(start_));
+    return schedule_.finished(drawn_) || stoppedByRule(shape_, secondsSince(start_));
   }
   int roundsDone() const override { return rounds_; }
   size_t memoryBytes() const override;
@@ -78,7 +79,7 @@ class LdMethod final : public ProgressiveMethod {
   int rounds_ = 0;
   method::Counters counters_;
   PhaseTimes times_;
-  method::Clock::time_point start_;
+  Clock::time_point start_;
 };
 
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,

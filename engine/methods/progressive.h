@@ -90,6 +90,20 @@ struct PixelInspection {
   }
 };
 
+// The start of every method's inspect(): valid with the pixel, round and method set, or
+// invalid (nothing else set) outside the image or before the first round.
+inline PixelInspection startInspection(int x, int y, int width, int height, int rounds,
+                                       const std::string& method) {
+  PixelInspection in;
+  if (x < 0 || y < 0 || x >= width || y >= height || rounds == 0) return in;
+  in.valid = true;
+  in.x = x;
+  in.y = y;
+  in.round = rounds;
+  in.method = method;
+  return in;
+}
+
 class ProgressiveMethod {
  public:
   virtual ~ProgressiveMethod() = default;

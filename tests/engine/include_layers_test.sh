@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
-# Checks every #include of engine/, viewer/, tests/ and bench/ against the allowed directions
+# Checks every #include of engine/, viewer/, report/, cli/, tests/ and bench/ against the allowed directions
 # (docs/ARCHITECTURE.md): an engine subsystem includes only itself and the subsystems below it,
 # by their include roots ("core/image.h"), never by a relative path, never a GL or window
-# header; viewer/report and viewer/app include the engine and themselves, viewer/cli all of
-# viewer/. The compiler enforces the same through the subsystems' include roots; this test also
+# header; report/ and viewer/ include the engine and themselves, cli/ all of them. The compiler enforces the same through the subsystems' include roots; this test also
 # catches relative paths, which would bypass them.
 # Usage: include_layers_test.sh SOURCE_DIR   (exit 1 and one line per violation when any)
 #        include_layers_test.sh --self-test  (the check must catch planted violations)
@@ -50,15 +49,15 @@ check_tree() {  # root -> prints violations, returns 1 when any
             echo "$where: includes \"$target\": $own may not include $top, which is above it"; bad=1
           fi
           ;;
-        viewer/report/*|viewer/app/*)
-          own=$(cut -d/ -f2 <<<"$where")
-          if [ "$top" = viewer ] && [[ $target != viewer/$own/* ]]; then
-            echo "$where: includes \"$target\": viewer/$own includes the engine and itself only"; bad=1
+        report/*|viewer/*)
+          own=${where%%/*}
+          if [[ $top =~ ^(viewer|report|cli)$ ]] && [ "$top" != "$own" ]; then
+            echo "$where: includes \"$target\": $own/ includes the engine and itself only"; bad=1
           fi
           ;;
       esac
     done < <(grep -E '^[[:space:]]*#[[:space:]]*include' "$file")
-  done < <(find "$root/engine" "$root/viewer" "$root/tests" "$root/bench" -type f \
+  done < <(find "$root/engine" "$root/viewer" "$root/report" "$root/cli" "$root/tests" "$root/bench" -type f \
              \( -name '*.h' -o -name '*.cpp' -o -name '*.inc' \) 2>/dev/null | sort)
   return $bad
 }
@@ -66,7 +65,7 @@ check_tree() {  # root -> prints violations, returns 1 when any
 if [ "${1:-}" = "--self-test" ]; then
   tmp=$(mktemp -d)
   trap 'rm -rf "$tmp"' EXIT
-  mkdir -p "$tmp/engine/core" "$tmp/engine/methods" "$tmp/viewer/app" "$tmp/tests"
+  mkdir -p "$tmp/engine/core" "$tmp/engine/methods" "$tmp/viewer/app" "$tmp/report" "$tmp/tests"
   printf '#include "core/image.h"\n#include <vector>\n' >"$tmp/engine/methods/fine.cpp"
   check_tree "$tmp" >/dev/null || { echo "self-test: a clean tree was refused"; exit 1; }
   cases=('engine/core/up.h|#include "methods/session.h"'
@@ -74,7 +73,9 @@ if [ "${1:-}" = "--self-test" ]; then
          'engine/core/gl.h|#include <GL/gl.h>'
          'engine/core/old.h|#include "engine/core/image.h"'
          'engine/core/ui.h|#include "viewer/app/view_app.h"'
-         'viewer/app/cli.h|#include "viewer/cli/commands.h"')
+         'viewer/app/cli.h|#include "cli/commands.h"'
+         'viewer/app/rep.h|#include "report/report.h"'
+         'report/ui.h|#include "viewer/app/view_app.h"')
   for c in "${cases[@]}"; do
     f=${c%%|*}
     printf '%s\n' "${c#*|}" >"$tmp/$f"

@@ -42,7 +42,7 @@ BpState::BpState(const PreparedScene& scene, const RunShape& runShape, const BpC
   store.resize(pixelCount);
   nets.resize(pixelCount);
   selected.assign(pixelCount, 0);
-  start = method::Clock::now();
+  start = Clock::now();
 }
 
 namespace {

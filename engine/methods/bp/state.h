@@ -2,13 +2,14 @@
 // read and write and method.cpp drives round by round. Internal to methods/bp.
 #pragma once
 
+#include "core/clock.h"
 #include "methods/bp/config.h"
 #include "methods/bp/network.h"
 #include "methods/bp/pixel_store.h"
-#include "methods/common.h"
 #include "methods/progressive.h"
 #include "methods/run_shape.h"
 #include "methods/schedule.h"
+#include "methods/trace_chunk.h"
 #include "trace/integrator.h"
 
 #include <atomic>
@@ -46,7 +47,7 @@ struct BpState {
   double trainingSeconds = 0;
   method::Counters counters;
   PhaseTimes times;
-  method::Clock::time_point start;
+  Clock::time_point start;
 
   const PixelState& pixel(size_t p) const { return store.pixels[p]; }
   PixelState& pixel(size_t p) { return store.pixels[p]; }
@@ -60,7 +61,7 @@ struct BpState {
     snap.times = times;
     snap.trainingFlops = trainingFlops;
     snap.trainingKernelSeconds = trainingSeconds;
-    snap.seconds = method::secondsSince(start);
+    snap.seconds = secondsSince(start);
   }
   bool cancelled(const std::atomic<bool>* cancel) const {
     return cancel && cancel->load(std::memory_order_relaxed);

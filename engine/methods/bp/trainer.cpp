@@ -59,10 +59,10 @@ bool trainNetworksOf(BpState& state, const std::vector<uint32_t>& pixels,
   std::vector<PixelNet*> nets(pixels.size());
   for (size_t i = 0; i < pixels.size(); ++i) nets[i] = &state.nets[pixels[i]];
   if (cancel && cancel->load()) return false;
-  const auto kernelStart = method::Clock::now();
+  const auto kernelStart = Clock::now();
   state.trainingFlops += trainNetworks(config.network, nets, batch, cancel);
   if (cancel && cancel->load()) return false;
-  state.trainingSeconds += method::secondsSince(kernelStart);
+  state.trainingSeconds += secondsSince(kernelStart);
   return true;
 }
 
