@@ -59,7 +59,25 @@ int parsePositive(const std::string& what, const std::string& text) {
 
 }  // namespace
 
-std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
+namespace {
+
+// What an entry's modifiers may be, for messages: "raw for any method; consistent, paper, tuned
+// for bp; filtered for ld; NAME=VALUE for any of the method's parameters".
+std::string modifierHelp(const MethodRegistry& registry) {
+  std::string text = "raw for any method";
+  for (const std::string& name : registry.names()) {
+    std::string presets;
+    for (const auto& [m, p] : registry.presetsOf(name))
+      presets += (presets.empty() ? "" : ", ") + p->name;
+    if (!presets.empty()) text += "; " + presets + " for " + name;
+  }
+  return text + "; NAME=VALUE for any of the method's parameters";
+}
+
+}  // namespace
+
+std::vector<Entry> parseEntries(const std::string& list, int defaultSpp,
+                                const MethodRegistry& registry) {
   std::vector<Entry> entries;
   std::set<std::string> labels;
   if (!list.empty() && list.back() == ',')
@@ -76,39 +94,38 @@ std::vector<Entry> parseEntries(const std::string& list, int defaultSpp) {
     }
     const auto parts = split(body, ':');
     e.name = parts.empty() ? "" : parts[0];
-    const auto kind = parseMethodKind(e.name);
-    if (!kind) {
-      std::string names;
-      for (const std::string& n : methodNames()) names += (names.empty() ? "" : ", ") + n;
+    if (!registry.find(e.name))
       throw CommandError("--methods: unknown method '" + e.name + "' in '" + item +
-                         "' (expected one of: " + names + ")");
-    }
-    e.kind = *kind;
+                         "' (expected one of: " + registry.nameList() + ")");
     for (size_t i = 1; i < parts.size(); ++i) {
-      if (parts[i] == "raw") {
+      if (parts[i] == "raw")
         e.raw = true;
-      } else if (parts[i] == "filtered" && e.kind == MethodKind::Ld) {
-        e.settings.push_back("filter=1");  // ld:filtered, the reconstruction's ablation
-      } else if (parseBpPreset(parts[i]) && e.kind == MethodKind::Bp) {
-        e.preset = parseBpPreset(parts[i]);
-      } else if (parts[i].find('=') != std::string::npos) {
-        // Checked here against the method's table, so a typo fails before any rendering.
-        MethodSpec check{RunShape{}, defaultConfig(e.kind)};
-        applyParamSetting(check, parts[i], "--methods: " + item);
+      else if (registry.find(e.name, parts[i]))
+        e.preset = parts[i];
+      else if (parts[i].find('=') != std::string::npos)
         e.settings.push_back(parts[i]);
-      } else {
-        throw CommandError("--methods: unknown modifier '" + parts[i] + "' in '" + item +
-                           "' (raw for any method; consistent, paper, tuned for bp; filtered for "
-                           "ld; NAME=VALUE for any of "
-                           "the method's parameters)");
-      }
+      else
+        throw CommandError("--methods: unknown modifier '" + parts[i] + "' in '" + item + "' (" +
+                           modifierHelp(registry) + ")");
     }
+    e.method = registry.find(e.name, e.preset);
+    // Checked here against the method's table, so a typo fails before any rendering.
+    MethodConfig check = e.method->defaults();
+    for (const std::string& setting : e.settings)
+      applyParamSetting(check, setting, "--methods: " + item);
     if (!labels.insert(e.label).second)
       throw CommandError("--methods: '" + e.label + "' is listed twice");
     entries.push_back(e);
   }
   if (entries.empty()) throw CommandError("--methods: no method given");
   return entries;
+}
+
+RunShape compareShape(const CompareFlags& flags, const Scene& scene) {
+  RunShape shape = RunShape::batch(scene.settings.spp);
+  flags.run.apply(shape);
+  if (const std::string problem = shape.validate(); !problem.empty()) throw CommandError(problem);
+  return shape;
 }
 
 namespace {
@@ -294,42 +311,46 @@ double percentile999(std::vector<double> v) {
   return v[k];
 }
 
-// The options of entry `e`'s method (flags plus the entry's preset).
-MethodOptions entryOptions(const CompareFlags& flags, const Entry& e) {
-  MethodOptions options = flags.method;
-  options.method = e.kind;
-  if (e.preset) options.preset = *e.preset;
-  return options;
+// The configuration entry `e`'s preset gives, before the flags and settings.
+MethodConfig entryBase(const Entry& e) {
+  MethodConfig base = e.method->defaults();
+  if (!e.preset.empty()) e.method->preset(e.preset)->apply(base);
+  return base;
 }
 
-// The method spec of entry `e` for one seed; throws CommandError on a bad setting.
-MethodSpec entrySpec(const CompareFlags& flags, const Entry& e, uint64_t seed) {
-  const MethodOptions options = entryOptions(flags, e);
-  // Equal time: open-ended rounds of 1 spp until the time is up.
-  const RunShape shape =
-      flags.equalTime > 0 ? RunShape::progressive(1, seed) : RunShape::batch(e.spp, seed);
-  MethodSpec spec{shape, options.config(e.kind, options.preset)};
+}  // namespace
+
+MethodSpec entrySpec(const CompareFlags& flags, const Entry& e, const RunShape& base,
+                     uint64_t seed) {
+  RunShape shape = base;
+  shape.seed = seed;
+  shape.spp = e.spp;
+  // Equal time: open-ended rounds until the time is up.
+  if (flags.equalTime > 0) {
+    shape.openEnded = true;
+    shape.spp = 0;
+  }
+  MethodSpec spec{shape, flags.method.config(*e.method, e.preset)};
   for (const std::string& setting : e.settings)
-    applyParamSetting(spec, setting, "--methods: " + e.label);
-  BpConfig* bp = spec.get<BpConfig>();
-  if (bp && e.raw) bp->reconstruct = false;
+    applyParamSetting(spec.config, setting, "--methods: " + e.label);
+  if (e.raw) e.method->skipReconstruction(spec.config);
   if (const std::string problem = validate(spec); !problem.empty())
     throw CommandError("--methods: " + e.label + ": " + problem);
   return spec;
 }
 
-}  // namespace
-
 std::string describeEntry(const CompareFlags& flags, const Entry& e) {
-  const MethodOptions options = entryOptions(flags, e);
-  std::string description = describe(e.kind);
-  if (e.kind == MethodKind::Bp)
-    description += std::string(", ") + toString(options.preset) + " preset";
+  std::string description = e.method->description();
+  const MethodDescriptor::Preset* named = e.method->defaultPreset();
+  if (!e.preset.empty())
+    description += ", " + e.preset + " preset";
+  else if (named)
+    description += ", " + named->name + " preset";
   if (e.raw) description += ", before reconstruction";
-  const MethodSpec spec = entrySpec(flags, e, flags.firstSeed);
-  MethodConfig base = defaultConfig(e.kind);
-  if (BpConfig* b = std::get_if<BpConfig>(&base)) applyBpPreset(*b, options.preset);
-  const std::string changes = describeChanges(spec, base);
+  const MethodSpec spec = entrySpec(flags, e, RunShape::batch(e.spp), flags.firstSeed);
+  MethodConfig base = entryBase(e);
+  if (e.raw) e.method->skipReconstruction(base);
+  const std::string changes = describeChanges(spec.config, base);
   if (!changes.empty()) description += ", " + changes;
   return description;
 }
@@ -337,9 +358,9 @@ std::string describeEntry(const CompareFlags& flags, const Entry& e) {
 CompareTask runTask(const CompareFlags& flags, const Entry& e, uint64_t seed,
                     const PreparedScene& prepared, const Image& reference) {
   const double pixels = double(reference.width) * reference.height;
-  const MethodSpec spec = entrySpec(flags, e, seed);
-  const BpConfig* bp = spec.get<BpConfig>();
-  const bool useRaw = e.raw || (bp && !bp->reconstruct);
+  const MethodSpec spec = entrySpec(flags, e, compareShape(flags, prepared.scene), seed);
+  // A method that shows no reconstruction is read raw.
+  const bool useRaw = e.raw || !spec.method().abilities(spec.config).filters;
   const RunOutcome outcome =
       runOnce(prepared, spec, RunPlan{flags.equalTime, !flags.noCurve, useRaw, &reference});
   const std::shared_ptr<Snapshot>& snap = outcome.snap;
@@ -369,7 +390,7 @@ CompareTask runTask(const CompareFlags& flags, const Entry& e, uint64_t seed,
   // was not filtered, so its filter-scale map does not describe it.
   if (seed == flags.firstSeed)
     for (const SnapshotMap& map : snap->maps)
-      if (!(useRaw && map.id == MapId::FilterScale)) task.maps.push_back(map);
+      if (!(useRaw && map.id == maps::FilterScale)) task.maps.push_back(map);
   return task;
 }
 
@@ -436,10 +457,20 @@ void run(CompareFlags flags) {
                        ": no such file (render one with `penumbra reference " +
                        flags.scene.scenePath + " --spp 8192 -o " + flags.referencePath +
                        "`, or leave --reference out to have compare render one)");
-  if (flags.spp > 0) flags.scene.spp = flags.spp;
   auto prepared = prepareScene(loadSceneWithOptions(flags.scene));
-  const int spp = prepared->scene.settings.spp;
-  const std::vector<Entry> entries = parseEntries(flags.methods, spp);
+  const int spp = compareShape(flags, prepared->scene).spp;
+  std::vector<Entry> entries = parseEntries(flags.methods, spp, *flags.method.registry);
+  std::vector<const MethodDescriptor*> compared;
+  for (Entry& e : entries) {
+    // --preset applies to the entries of a method that has it and name none of their own.
+    const MethodDescriptor* preset = flags.method.registry->find(e.name, flags.method.preset);
+    if (e.preset.empty() && !flags.method.preset.empty() && preset) {
+      e.preset = flags.method.preset;
+      e.method = preset;
+    }
+    compared.push_back(e.method);
+  }
+  flags.method.requireRead(compared);
   if (!flags.plan.empty()) {
     for (const Entry& e : entries) describeEntry(flags, e);  // a bad setting fails here
     return writeComparePlan(flags, entries);
@@ -502,6 +533,8 @@ void registerCompareCommand(CLI::App& app) {
       "write DIR/report.html, report.md, results.json, results.csv and curves.csv (time to "
       "quality) against a reference");
   addSceneOptions(*c, flags->scene);
+  addRunOptions(*c, flags->run, kCompareCommand, RunShape::batch(16),
+                {{"spp", "the scene's render.spp"}});
   c->add_option("--methods", flags->methods,
                 "Comma-separated NAME[:MODIFIER][@SPP]: NAME in ld, bp, fdiv, fuzzy, gem, "
                 "cycles; modifiers consistent/paper/tuned (bp presets), filtered (ld with the "

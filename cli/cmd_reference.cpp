@@ -6,6 +6,7 @@
 #include "cli/json_file.h"
 #include "cli/plan.h"
 #include "cli/progress.h"
+#include "cli/run_options.h"
 #include "cli/scene_options.h"
 #include "cli/shard_record.h"
 #include "core/image_io.h"
@@ -23,11 +24,18 @@ namespace penumbra {
 
 namespace {
 
+// A reference's own spp and seed (far from the seeds the comparisons use, 1, 2, ...), or the
+// flags'; always low discrepancy.
+RunShape referenceShape(const RunOptions& options) {
+  RunShape shape = RunShape::batch(8192, 999);
+  options.apply(shape);
+  return shape;
+}
+
 struct ReferenceFlags {
   SceneOptions scene;
+  RunOptions run;
   std::string output, variancePath, statsPath;
-  int spp = 8192;
-  uint64_t seed = 999;  // far from the seeds the comparisons use (1, 2, ...)
   int threads = 0;
   bool quiet = false;
   std::string shard;  // "K/N": render only shard K's tiles (docs/farm.md)
@@ -77,7 +85,8 @@ void run(ReferenceFlags flags) {
   if (flags.shards > 0) throw CommandError("--shards N goes with --plan DIR (or use --shard K/N)");
   prepareLinearOutputs("a reference", flags.output, flags.variancePath, flags.statsPath);
 
-  flags.scene.spp = flags.spp;
+  const RunShape shape = referenceShape(flags.run);
+  if (const std::string problem = shape.validate(); !problem.empty()) throw CommandError(problem);
   Shard shard;
   if (!flags.shard.empty()) {
     try {
@@ -93,12 +102,12 @@ void run(ReferenceFlags flags) {
   const Scene& s = prepared->scene;
   const int w = s.settings.width, h = s.settings.height;
   ProgressBar bar("reference " + std::to_string(w) + "x" + std::to_string(h) + " " +
-                  std::to_string(flags.spp) + " spp" +
+                  std::to_string(shape.spp) + " spp" +
                   (flags.shard.empty() ? "" : ", shard " + flags.shard));
   std::function<void(double)> progress;
   if (!flags.quiet) progress = [&bar](double f) { bar.update(f); };
   const Reference ref =
-      renderReference(*prepared, flags.spp, flags.seed, flags.threads, progress,
+      renderReference(*prepared, shape.spp, shape.seed, flags.threads, progress,
                       flags.shard.empty() ? std::vector<uint8_t>() : shardPixelMask(w, h, shard));
   bar.finish();
   const RenderResult& r = ref.render;
@@ -111,7 +120,7 @@ void run(ReferenceFlags flags) {
     record.scene = flags.scene.scenePath;
     record.sceneHash = sceneHash(s);
     record.settings =
-        pixelSettings(s, flags.scene, flags.spp, flags.seed, SamplerKind::LowDiscrepancy);
+        pixelSettings(s, flags.scene, shape.spp, shape.seed, SamplerKind::LowDiscrepancy);
     record.shard = shard;
     record.tiles = shardTiles(w, h, shard);
     record.width = w;
@@ -128,13 +137,13 @@ void run(ReferenceFlags flags) {
                   shard.index, shard.count, record.tiles.size(), r.seconds, recordPath.c_str());
   } else {
     writeJson(flags.statsPath,
-              referenceRecord(flags.scene.scenePath, flags.output, flags.variancePath, s, flags.spp,
-                              flags.seed, r, ref.convergence));
+              referenceRecord(flags.scene.scenePath, flags.output, flags.variancePath, s, shape.spp,
+                              shape.seed, r, ref.convergence));
     if (!flags.quiet)
       std::printf(
           "%s: %dx%d, %d spp, %.1f s; variance %s; residual MSE %.3g (mean relative "
           "error %.3g)\n",
-          flags.output.c_str(), w, h, flags.spp, r.seconds, flags.variancePath.c_str(),
+          flags.output.c_str(), w, h, shape.spp, r.seconds, flags.variancePath.c_str(),
           ref.convergence.residualMse, ref.convergence.meanRelativeError);
   }
   if (r.nonFiniteSamples > 0)
@@ -151,16 +160,11 @@ void registerReferenceCommand(CLI::App& app) {
       "Render a converged low-discrepancy reference (.exr) with its variance image and a JSON "
       "record of its residual error, for `penumbra compare` and `penumbra diff`");
   addSceneOptions(*c, flags->scene);
-  // Scene options define --spp as an override of the scene's; here it has its own default.
-  c->remove_option(c->get_option("--spp"));
-  c->add_option("--spp", flags->spp, "Samples per pixel")
-      ->check(CLI::Range(1, 1 << 24))
-      ->capture_default_str();
+  addRunOptions(*c, flags->run, kReferenceCommand, referenceShape({}));
   c->add_option("-o,--output", flags->output, "Reference image (.exr or .pfm)")->required();
   c->add_option("--variance-out", flags->variancePath,
                 "Per-pixel variance of the mean (default: OUTPUT_var.exr)");
   c->add_option("--stats", flags->statsPath, "JSON record (default: OUTPUT with .json)");
-  c->add_option("--seed", flags->seed, "Random seed")->capture_default_str();
   c->add_option("--threads", flags->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   c->add_option(

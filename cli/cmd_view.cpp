@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 #include "cli/json_file.h"
 #include "cli/method_options.h"
+#include "cli/run_options.h"
 #include "cli/scene_options.h"
 #include "core/image_io.h"
 #include "viewer/app/gl/context.h"
@@ -26,9 +27,8 @@ namespace {
 struct ViewFlags {
   SceneOptions scene;
   MethodOptions method;
-  uint64_t seed = 0;
+  RunOptions run;
   int threads = 0;
-  int roundSpp = 1;
   std::string referencePath, overlay = "none", tone = "srgb";
   float exposure = 0.0f, blend = 0.7f;
   bool raw = false;
@@ -55,6 +55,14 @@ std::pair<int, int> parseSize(const std::string& text, const char* flag) {
   return {w, h};
 }
 
+// Open-ended rounds of 1 spp, refining until stopped, with the run flags given (--spp is where
+// they stop).
+RunShape viewShape(const RunOptions& run) {
+  RunShape shape = RunShape::progressive(1);
+  run.apply(shape);
+  return shape;
+}
+
 ViewOptions makeOptions(const ViewFlags& f) {
   ViewOptions o;
   Scene scene = loadSceneWithOptions(f.scene);
@@ -70,19 +78,21 @@ ViewOptions makeOptions(const ViewFlags& f) {
     withPath.scenePath = path;
     return loadSceneWithOptions(withPath);
   };
-  o.shape = RunShape::progressive(f.roundSpp, f.seed, f.scene.spp ? *f.scene.spp : 0);
-  o.method = f.method.kind();
-  // Every method gets the flags given, so that the panel's switch keeps them.
-  for (const std::string& name : methodNames()) {
-    const MethodKind kind = *parseMethodKind(name);
-    o.configs[size_t(kind)] = f.method.config(kind, f.method.preset);
-  }
+  o.shape = viewShape(f.run);
+  o.methods = f.method.registry;
+  o.method = &f.method.descriptor();
+  f.method.requireRead({o.method});
+  // Every method gets the flags given (and the preset, where it has it), so that the panel's
+  // switch keeps them.
+  o.configs.clear();
+  for (const MethodDescriptor* m : o.methods->methods())
+    o.configs.push_back(f.method.config(*m, f.method.preset));
   if (const std::string problem = validate(o.spec()); !problem.empty()) throw CommandError(problem);
   o.threads = f.threads;
-  const auto overlay = overlayByName(f.overlay);
+  const auto overlay = overlayByName(f.overlay, *o.methods);
   if (!overlay)
     throw CommandError("--overlay: unknown overlay '" + f.overlay +
-                       "' (expected one of: " + overlayNames() + ")");
+                       "' (expected one of: " + overlayNames(*o.methods) + ")");
   o.overlay = *overlay;
   o.blend = f.blend;
   o.display.exposure = f.exposure;
@@ -212,20 +222,15 @@ void run(const ViewFlags& f) {
 
 void registerViewCommand(CLI::App& app) {
   auto flags = std::make_shared<ViewFlags>();
-  // An artist opening a scene gets the adaptive method in its measured-best configuration;
-  // --preset paper and --method ld are one flag away.
-  flags->method.method = MethodKind::Bp;
-  flags->method.preset = BpPreset::Consistent;
+  // An artist opening a scene gets the adaptive method in its measured-best configuration (bp's
+  // defaults); --preset paper and --method ld are one flag away.
+  flags->method.method = "bp";
   CLI::App* c = app.add_subcommand(
       "view", "Open the progressive viewer (a window; headless screenshots with --headless)");
   addSceneOptions(*c, flags->scene);
-  c->add_option("--seed", flags->seed,
-                "Random seed (the image after each round depends only on it)");
+  addRunOptions(*c, flags->run, kViewCommand, viewShape({}), {{"spp", "0: refine until stopped"}});
   c->add_option("--threads", flags->threads, "Render threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
-  c->add_option("--round-spp", flags->roundSpp, "Kept samples per pixel added by each round")
-      ->check(CLI::Range(1, 1024))
-      ->capture_default_str();
   c->add_option("--reference", flags->referencePath,
                 "Reference image (.exr): the error overlay and the MSE plot compare with it");
   c->add_option("--overlay", flags->overlay, "Overlay at start: " + overlayNames())

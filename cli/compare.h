@@ -6,6 +6,7 @@
 #pragma once
 
 #include "cli/method_options.h"
+#include "cli/run_options.h"
 #include "cli/scene_options.h"
 #include "core/image.h"
 #include "methods/factory.h"
@@ -23,10 +24,10 @@ namespace penumbra {
 struct CompareFlags {
   SceneOptions scene;
   MethodOptions method;
+  RunOptions run;  // --spp, --round-spp, --sampler (seeds and equal time are compare's own)
   std::string methods = "ld,ld:filtered,fdiv,fuzzy,gem,bp:tuned,bp";
   std::string referencePath, outDir, title;
   std::vector<std::string> crops;
-  int spp = 0;  // 0: the scene's
   int seeds = 5;
   uint64_t firstSeed = 1;
   double equalTime = 0;
@@ -45,8 +46,8 @@ struct CompareFlags {
 struct Entry {
   std::string label;
   std::string name;
-  MethodKind kind = MethodKind::Ld;
-  std::optional<BpPreset> preset;  // bp: none (the flags'), paper or tuned
+  const MethodDescriptor* method = nullptr;  // the descriptor its name and preset give
+  std::string preset;                        // NAME:PRESET; empty: the flags' --preset, if any
   bool raw = false;
   std::vector<std::string> settings;  // "name=value" of the method's parameter table
   int spp = 0;
@@ -57,11 +58,18 @@ struct Entry {
 // comparison can reuse it; `note` says where a rendered one came from.
 Image loadOrRenderReference(CompareFlags& flags, const PreparedScene& prepared, std::string& note);
 
-// Parses --methods; throws CommandError naming the entry.
-std::vector<Entry> parseEntries(const std::string& list, int defaultSpp);
+// Parses --methods against the methods of `registry`; throws CommandError naming the entry.
+std::vector<Entry> parseEntries(const std::string& list, int defaultSpp,
+                                const MethodRegistry& registry = builtinMethods());
+// The run's shape of every entry: the scene's spp and the run flags given.
+RunShape compareShape(const CompareFlags& flags, const Scene& scene);
 
 // What the report says of an entry: its method, preset and changed settings.
 std::string describeEntry(const CompareFlags& flags, const Entry& e);
+// The method spec of entry `e` for one seed, from `base` (compareShape); throws CommandError on
+// a bad setting.
+MethodSpec entrySpec(const CompareFlags& flags, const Entry& e, const RunShape& base,
+                     uint64_t seed);
 
 // One seed of one entry: the run as measured (its speckle share left for assembleResults),
 // the image its user gets, and (first seed only) the method's maps.

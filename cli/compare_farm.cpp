@@ -177,10 +177,10 @@ void runCompareTask(const CompareFlags& flags, const std::vector<Entry>& entries
       flags.threads > 0 ? flags.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   j["maps"] = Json::array();
   for (const SnapshotMap& map : task.maps) {
-    const std::string file = std::string("maps/") + mapName(map.id) + ".exr";
+    const std::string file = std::string("maps/") + map.id.name() + ".exr";
     writeImage((fs::path(flags.outDir) / file).string(),
                mapImage(map, reference.width, reference.height));
-    j["maps"].push_back({{"id", mapName(map.id)},
+    j["maps"].push_back({{"id", map.id.name()},
                          {"label", map.label},
                          {"file", file},
                          {"kind", int(map.legend.kind)},
@@ -195,8 +195,8 @@ void runCompareTask(const CompareFlags& flags, const std::vector<Entry>& entries
 
 // Reads task `index` of the plan: its run, image and maps.
 CompareTask readCompareTask(const std::string& plan, size_t index, const std::string& label,
-                            uint64_t seed, const Image& reference, std::set<std::string>& hosts,
-                            int& threads) {
+                            uint64_t seed, const Image& reference, const MethodRegistry& methods,
+                            std::set<std::string>& hosts, int& threads) {
   const std::string dir = taskFolder(plan, index);
   const std::string path = (fs::path(dir) / "task.json").string();
   std::ifstream in(path);
@@ -218,7 +218,7 @@ CompareTask readCompareTask(const std::string& plan, size_t index, const std::st
     task.image = readImage((fs::path(dir) / "image.exr").string());
     for (const Json& m : j.at("maps")) {
       SnapshotMap map;
-      const auto id = mapByName(m.at("id").get<std::string>());
+      const auto id = methods.mapByName(m.at("id").get<std::string>());
       if (!id) throw CommandError(path + ": unknown map '" + m.at("id").get<std::string>() + "'");
       map.id = *id;
       map.label = m.at("label").get<std::string>();
@@ -263,7 +263,8 @@ std::vector<report::MethodResult> collectCompare(const CompareFlags& flags,
   for (size_t i = 0; i < entries.size(); ++i)
     for (int s = 0; s < flags.seeds; ++s, ++index)
       tasks[i].push_back(readCompareTask(plan, index, entries[i].label,
-                                         flags.firstSeed + uint64_t(s), reference, hosts, threads));
+                                         flags.firstSeed + uint64_t(s), reference,
+                                         *flags.method.registry, hosts, threads));
   return assembleResults(flags, entries, tasks, reference);
 }
 

@@ -1,106 +1,139 @@
 #include "cli/method_options.h"
 
-#include "cli/commands.h"
-
 namespace penumbra {
 
 namespace {
 
-constexpr MethodKind kWithParameters[] = {MethodKind::Bp,    MethodKind::Ld,  MethodKind::FDiv,
-                                          MethodKind::Fuzzy, MethodKind::Gem, MethodKind::Cycles};
+// "ld (Low discrepancy (box filter)), bp (...), ...": --method's choices, from the descriptors.
+std::string methodHelp(const MethodRegistry& registry) {
+  std::string text = "Rendering method: ";
+  for (const std::string& name : registry.names())
+    text += (name == registry.names().front() ? "" : ", ") + name + " (" +
+            registry.find(name)->description() + ")";
+  return text;
+}
 
-std::string joined(const std::vector<std::string>& values) {
-  std::string s;
-  for (const std::string& v : values) s += (s.empty() ? "" : ",") + v;
-  return s;
+// Every preset of every method: "bp: consistent (the default: ...), paper (...); ld: ...".
+std::string presetHelp(const MethodRegistry& registry) {
+  std::string text =
+      "A named configuration of the method (explicit flags still apply); without one, the "
+      "method's defaults. ";
+  bool firstName = true;
+  for (const std::string& name : registry.names()) {
+    const auto presets = registry.presetsOf(name);
+    if (presets.empty()) continue;
+    text += std::string(firstName ? "" : "; ") + name + ": ";
+    firstName = false;
+    for (size_t i = 0; i < presets.size(); ++i)
+      text += (i ? ", " : "") + presets[i].second->name +
+              (presets[i].second->isDefaults && presets[i].first == registry.find(name)
+                   ? " (the default)"
+                   : "") +
+              " (" + presets[i].second->help + ")";
+  }
+  return text;
+}
+
+std::vector<std::string> presetNames(const MethodRegistry& registry) {
+  std::vector<std::string> names;
+  for (const MethodDescriptor* m : registry.methods())
+    for (const MethodDescriptor::Preset& p : m->presets())
+      if (std::find(names.begin(), names.end(), p.name) == names.end()) names.push_back(p.name);
+  return names;
 }
 
 }  // namespace
 
-void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>& skip) {
-  c.add_option_function<std::string>(
-       "--method", [&o](const std::string& name) { o.method = *parseMethodKind(name); },
-       "Rendering method: ld (low-discrepancy sampling, box filter), bp (the BP "
-       "network adaptive sampling and reconstruction), or a baseline: fdiv "
-       "(f-divergence), fuzzy (fuzzy uncertainty, re-implemented), gem (greedy error "
-       "minimisation with its filterbank), cycles (half-buffer error)")
-      ->check(CLI::IsMember(methodNames()))
-      ->default_str(toString(o.method));
-  c.add_option_function<std::string>(
-       "--preset", [&o](const std::string& name) { o.preset = *parseBpPreset(name); },
-       "BP configuration: consistent (the default: consistent reconstruction of the film, "
-       "samples where its estimated error falls most, the networks steering them), paper "
-       "(ALGORITHM.md's recommendations, the defaults below) or tuned (the paper's rounds "
-       "without candidate choice or warping, plain mean, --sigma-c 0.05); explicit flags "
-       "still apply")
-      ->check(CLI::IsMember(
-          {toString(BpPreset::Consistent), toString(BpPreset::Paper), toString(BpPreset::Tuned)}))
-      ->default_str(toString(o.preset));
+std::string howToChoose(const MethodDescriptor& method) {
+  if (method.algorithm().empty() || method.presets().empty()) return "--method " + method.name();
+  std::string text = "--preset ";
+  for (size_t i = 0; i < method.presets().size(); ++i)
+    text += (i ? " or " : "") + method.presets()[i].name;
+  return text;
+}
 
+void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>& skip) {
+  const MethodRegistry& registry = *o.registry;
+  c.add_option("--method", o.method, methodHelp(registry))
+      ->check(CLI::IsMember(registry.names()))
+      ->default_str(o.method);
+  c.add_option("--preset", o.preset, presetHelp(registry))
+      ->check(CLI::IsMember(presetNames(registry)))
+      ->default_str(o.preset);
   // One flag per parameter name; the first method that has it describes it.
-  for (MethodKind kind : kWithParameters) {
-    const MethodConfig defaults = defaultConfig(kind);
-    for (const MethodParam& p : methodParams(kind)) {
+  for (const MethodDescriptor* method : registry.methods()) {
+    const MethodConfig defaults = method->defaults();
+    for (const MethodParam& p : method->params()) {
       if (skip.count(p.name) || o.given.count(p.name)) continue;
-      MethodOptions::Given& g = o.given[p.name];
-      if (p.kind == ParamKind::Flag) {
-        g.option = c.add_flag(p.flag, g.flag, p.help)->group(p.group);
-        continue;
-      }
-      CLI::Option* option = c.add_option("--" + p.name, g.values, p.help)
-                                ->default_str(formatParam(p, defaults))
-                                ->group(p.group);
-      if (p.kind == ParamKind::FloatList)
-        option->delimiter(',')->expected(0, 16)->type_name("FLOAT")->check(
-            CLI::Range(p.min, p.max));
-      else if (p.kind == ParamKind::Choice)
-        option->expected(1)->type_name("TEXT")->check(CLI::IsMember(p.choices));
-      else if (p.kind == ParamKind::Int)
-        option->expected(1)->type_name("INT")->check(CLI::Range(int(p.min), int(p.max)));
-      else
-        option->expected(1)->type_name("FLOAT")->check(CLI::Range(p.min, p.max));
-      g.option = option;
+      addParamFlag(c, p, o.given[p.name], formatParam(p, defaults));
     }
   }
 }
 
-MethodConfig MethodOptions::config(MethodKind kind, BpPreset bpPreset) const {
-  MethodConfig config = defaultConfig(kind);
-  if (BpConfig* bp = std::get_if<BpConfig>(&config)) applyBpPreset(*bp, bpPreset);
-  for (const MethodParam& p : methodParams(kind)) {
+const MethodDescriptor& MethodOptions::descriptor() const {
+  if (!registry->find(method))
+    throw CommandError("--method " + method + ": expected one of " + registry->nameList());
+  const MethodDescriptor* chosen = registry->find(method, preset);
+  if (!chosen) {
+    std::string names;
+    for (const auto& [m, p] : registry->presetsOf(method))
+      names += (names.empty() ? "" : ", ") + p->name;
+    throw CommandError("--preset " + preset + ": " + method + " has no such preset" +
+                       (names.empty() ? " (it has none)" : " (it has: " + names + ")"));
+  }
+  return *chosen;
+}
+
+MethodConfig MethodOptions::config(const MethodDescriptor& method, std::string_view name) const {
+  MethodConfig config = method.defaults();
+  const MethodConfig defaults = config;
+  if (const MethodDescriptor::Preset* p = name.empty() ? nullptr : method.preset(name))
+    p->apply(config);
+  for (const MethodParam& p : method.params()) {
     const auto it = given.find(p.name);
-    if (it == given.end() || !it->second.given()) continue;
-    std::string problem;
-    if (p.kind == ParamKind::Flag)
-      p.set(config, p.get(defaultConfig(kind)) != 0 ? 0.0 : 1.0);
-    else
-      problem = parseParam(p, config, joined(it->second.values));
-    if (!problem.empty()) throw CommandError(problem);
+    if (it != given.end()) applyGivenFlag(p, it->second, config, defaults);
   }
   return config;
 }
 
+void MethodOptions::requireRead(const std::vector<const MethodDescriptor*>& methods) const {
+  for (const auto& [name, flag] : given) {
+    if (!flag.given()) continue;
+    bool read = false;
+    for (const MethodDescriptor* m : methods) read = read || m->param(name);
+    if (read) continue;
+    std::string by;
+    for (const MethodDescriptor* reader : registry->readersOf(name))
+      by += (by.empty() ? "" : "; ") + reader->title() + " (" + howToChoose(*reader) + ")";
+    const MethodParam* p = registry->readersOf(name).front()->param(name);
+    std::string what = methods.size() == 1 ? methods.front()->title() + " does not read it"
+                                           : "none of the methods compared reads it";
+    throw CommandError(flagOf(*p) + ": " + what + (by.empty() ? "" : "; it is read by " + by));
+  }
+}
+
 MethodSpec MethodOptions::spec(const RunShape& shape) const {
-  MethodSpec s{shape, config(kind(), preset)};
+  const MethodDescriptor& chosen = descriptor();
+  requireRead({&chosen});
+  MethodSpec s{shape, config(chosen, preset)};
   if (const std::string problem = validate(s); !problem.empty()) throw CommandError(problem);
   return s;
 }
 
-void applyParamSetting(MethodSpec& spec, const std::string& setting, const std::string& where) {
+void applyParamSetting(MethodConfig& config, const std::string& setting, const std::string& where) {
   const size_t eq = setting.find('=');
   const std::string name = setting.substr(0, eq);
-  for (const MethodParam& p : methodParams(spec.kind())) {
-    if (p.name != name) continue;
+  const MethodDescriptor& method = config.method();
+  if (const MethodParam* p = method.param(name)) {
     if (eq == std::string::npos)
       throw CommandError(where + ": '" + setting + "' needs a value (" + name + "=VALUE)");
-    const std::string problem = parseParam(p, spec.config, setting.substr(eq + 1));
+    const std::string problem = parseParam(*p, config, setting.substr(eq + 1));
     if (!problem.empty()) throw CommandError(where + ": " + problem);
     return;
   }
   std::string names;
-  for (const MethodParam& p : methodParams(spec.kind()))
-    names += (names.empty() ? "" : ", ") + p.name;
-  throw CommandError(where + ": " + toString(spec.kind()) + " has no parameter '" + name + "'" +
+  for (const MethodParam& p : method.params()) names += (names.empty() ? "" : ", ") + p.name;
+  throw CommandError(where + ": " + method.title() + " has no parameter '" + name + "'" +
                      (names.empty() ? "" : " (it has: " + names + ")"));
 }
 

@@ -47,8 +47,6 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
                ".obj with its .mtl")
       ->required()
       ->check(CLI::ExistingFile);
-  c.add_option("--spp", o.spp, "Samples per pixel (default: the scene's render.spp)")
-      ->check(CLI::Range(1, 1 << 20));
   c.add_option("--size", o.size, "Image size WxH, e.g. 512x512 (default: the scene's render size)");
   c.add_option("--max-depth", o.maxDepth,
                "Maximum path depth: 0 = emitters only, 1 = direct light, ...")
@@ -101,7 +99,6 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
     scene.settings.width = int(wh[0]);
     scene.settings.height = int(wh[1]);
   }
-  if (o.spp) scene.settings.spp = *o.spp;
   if (o.maxDepth) scene.settings.maxDepth = *o.maxDepth;
   Camera& cam = scene.camera;
   if (!o.eye.empty()) cam.eye = parseVec3("--eye", o.eye);

@@ -1,5 +1,6 @@
-// Command-line options shared by every command that loads a scene (render, and the
-// view/reference/compare commands to come): image size, spp, depth and camera overrides.
+// Command-line options shared by every command that loads a scene (render, view, reference,
+// compare): image size, depth and camera overrides. The samples per pixel are the run's
+// (run_options.h), whose default is the scene's render.spp.
 #pragma once
 
 #include "scene/scene.h"
@@ -15,7 +16,7 @@ namespace penumbra {
 struct SceneOptions {
   std::string scenePath;
   std::string size;  // "WxH"
-  std::optional<int> spp, maxDepth;
+  std::optional<int> maxDepth;
   std::string eye, lookAt, up, shutter;
   std::string camera;                    // glTF: which of the file's cameras
   std::optional<double> frameTime;       // glTF: seconds into the animation

@@ -7,6 +7,7 @@
 #include "core/stats.h"
 
 #include "core/image_io.h"
+#include "methods/factory.h"
 #include "present/debug_maps.h"
 #include "report/report_detail.h"
 
@@ -149,17 +150,16 @@ std::string hexColor(vec3 linear) {
 vec3 cropColor(size_t index, size_t count) { return categoryColor(int(index), int(count)); }
 
 std::span<const ReportMap> reportMaps() {
-  static constexpr std::array<ReportMap, 3> kMaps = {{
-      {MapId::SampleCount, "density", "density", "kept spp", "kept spp", "Kept samples per pixel",
-       "Shared colour bar across methods.", ReportScale::Shared},
-      {MapId::ErrorEstimate, "estimate", "error_estimate", "error estimate", nullptr,
-       "Error estimates",
-       "Each method's own per-pixel error estimate; colour bar 0 to its 99th percentile.",
-       ReportScale::OwnPercentile},
-      {MapId::FilterScale, "filter", "filter_scale", "filter scale", "filter", "Filter scale",
-       "Reconstruction filter chosen per pixel.", ReportScale::Categories},
-  }};
-  return kMaps;
+  static const std::vector<ReportMap> rows = [] {
+    std::vector<ReportMap> out;
+    for (const MapKind* kind : builtinMethods().maps())
+      if (kind->report) out.push_back({*kind, kind->report});
+    std::stable_sort(out.begin(), out.end(), [](const ReportMap& a, const ReportMap& b) {
+      return a.report->order < b.report->order;
+    });
+    return out;
+  }();
+  return rows;
 }
 
 // ---- Summary sentence ---------------------------------------------------------------------
@@ -296,7 +296,7 @@ void validate(const CompareReport& r) {
       throw std::invalid_argument("method label '" + m.label + "' is used twice");
     requireImageSize(m.image, ref, name + " image");
     for (const SnapshotMap& map : m.maps)
-      requireMapSize(map, ref, name + " " + mapName(map.id) + " map");
+      requireMapSize(map, ref, name + " " + map.id.name() + " map");
   }
   for (const Crop& c : r.crops)
     if (c.w <= 0 || c.h <= 0 || c.x < 0 || c.y < 0 || c.x + c.w > ref.width ||
@@ -373,10 +373,12 @@ Png savePng(const fs::path& dir, const std::string& name, const Image& image, fl
 Image reportMapPicture(const ReportMap& row, const SnapshotMap& map, int w, int h,
                        float sharedMax) {
   MapLegend legend;
-  std::string title = row.title ? row.title : map.label.empty() ? "error estimate" : map.label;
-  if (row.scale == ReportScale::Shared) {
+  std::string title = row.report->title   ? row.report->title
+                      : map.label.empty() ? "error estimate"
+                                          : map.label;
+  if (row.report->scale == ReportScale::Shared) {
     legend.maxValue = sharedMax;
-  } else if (row.scale == ReportScale::OwnPercentile) {
+  } else if (row.report->scale == ReportScale::OwnPercentile) {
     double top = quantile(map.values, 0.99);
     if (!(top > 0)) top = 1;
     legend.maxValue = float(top);
@@ -432,7 +434,7 @@ void writeImages(const fs::path& dir, Prepared& p) {
     for (size_t k = 0; k < reportMaps().size(); ++k) {
       const ReportMap& row = reportMaps()[k];
       const SnapshotMap* map = findMap(method.maps, row.id);
-      out.maps.push_back(map ? savePng(dir, stem + "_" + row.stem,
+      out.maps.push_back(map ? savePng(dir, stem + "_" + row.report->stem,
                                        reportMapPicture(row, *map, w, h, sharedMax[k]), 0)
                              : Png{});
     }
@@ -552,7 +554,8 @@ json resultsJson(const Prepared& p) {
     const MethodImages& images = p.images[m];
     json files = {{"image", images.image.file}, {"error", images.error.file}};
     for (size_t k = 0; k < reportMaps().size(); ++k)
-      if (!images.maps[k].file.empty()) files[reportMaps()[k].jsonKey] = images.maps[k].file;
+      if (!images.maps[k].file.empty())
+        files[reportMaps()[k].report->jsonKey] = images.maps[k].file;
     jm["images"] = files;
     j["methods"].push_back(jm);
   }
@@ -619,7 +622,7 @@ std::string reportMarkdown(const Prepared& p) {
   };
   md += mapRow("error", [](const MethodImages& i) -> const Png& { return i.error; });
   for (size_t k = 0; k < reportMaps().size(); ++k)
-    md += mapRow(reportMaps()[k].rowName,
+    md += mapRow(reportMaps()[k].report->rowName,
                  [k](const MethodImages& i) -> const Png& { return i.maps[k]; });
   md += "\n\nError maps: relative squared error, colour bar 0 to " + sci(p.errorScale) +
         " (99th percentile over all methods).\n";

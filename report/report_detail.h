@@ -86,21 +86,10 @@ struct Png {
 };
 
 // The methods' maps the report shows, one row each (report.md, report.html) and one PNG per
-// method that has the map.
-enum class ReportScale {
-  Shared,         // Sequential, one colour bar from 0 to the largest value of all methods
-  OwnPercentile,  // Sequential, each method's own colour bar from 0 to its 99th percentile
-  Categories,     // Categorical, the method's category labels
-};
+// method that has the map: the map kinds that say how (MapKind::report), in their order.
 struct ReportMap {
   MapId id;
-  const char* stem;     // images/<method>_<stem>.png
-  const char* jsonKey;  // results.json: methods[].images.<jsonKey>
-  const char* rowName;  // report.md
-  const char* title;    // the legend's title; nullptr: the map's label
-  const char* heading;  // report.html
-  const char* note;     // report.html, under the heading
-  ReportScale scale;
+  const MapReport* report;
 };
 std::span<const ReportMap> reportMaps();
 

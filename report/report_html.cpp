@@ -123,9 +123,9 @@ std::string mapSections(const Prepared& p, const DisplayScale& scale) {
       if (png.file.empty()) continue;
       std::string caption = "<b>" + htmlEscape(r.methods[m].label) + "</b>";
       const SnapshotMap* values = map ? findMap(r.methods[m].maps, map->id) : nullptr;
-      if (values && map->scale == ReportScale::OwnPercentile && !values->label.empty())
+      if (values && map->report->scale == ReportScale::OwnPercentile && !values->label.empty())
         caption += " · " + htmlEscape(values->label);
-      if (values && map->scale == ReportScale::Categories) {
+      if (values && map->report->scale == ReportScale::Categories) {
         const auto& labels = values->legend.categories;
         caption += "<br>";
         for (size_t i = 0; i < labels.size(); ++i)
@@ -153,7 +153,7 @@ std::string mapSections(const Prepared& p, const DisplayScale& scale) {
       [](const MethodImages& i) -> const Png& { return i.error; }, nullptr);
   for (size_t k = 0; k < reportMaps().size(); ++k)
     mapRow(
-        reportMaps()[k].heading, reportMaps()[k].note,
+        reportMaps()[k].report->heading, reportMaps()[k].report->note,
         [k](const MethodImages& i) -> const Png& { return i.maps[k]; }, &reportMaps()[k]);
   return html;
 }

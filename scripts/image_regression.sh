@@ -64,13 +64,16 @@ cases=(
   "ld-independent|--method ld --sampler independent"
   "bp-paper|--method bp --preset paper --raw-out RAW --aov-dir AOV"
   "bp-tuned|--method bp --preset tuned --raw-out RAW --aov-dir AOV"
-  "bp-ablations|--method bp --no-warping --no-second-pass --candidate-mode predicted --inputs 5"
+  "bp-ablations|--method bp --preset paper --no-warping --no-second-pass --candidate-mode predicted --inputs 5"
   "fdiv|--method fdiv --raw-out RAW --aov-dir AOV"
   "fdiv-kl|--method fdiv --divergence kl"
   "fdiv-chi2|--method fdiv --divergence chi2"
   "fuzzy|--method fuzzy --raw-out RAW --aov-dir AOV"
   "gem|--method gem --raw-out RAW --aov-dir AOV"
   "cycles|--method cycles --raw-out RAW --aov-dir AOV"
+  "bp-noise|--method bp --noise-threshold 0.05 --variance-out VAR"
+  "ld-noise|--method ld --noise-threshold 0.05 --filter --raw-out RAW"
+  "gem-noise|--method gem --noise-threshold 0.05"
 )
 # Open-ended runs: the viewer's progressive rounds, headless, with an overlay.
 views=(

@@ -28,12 +28,8 @@ int AllocationConfig::effectiveBatch(const RunShape& shape) const {
   return shape.openEnded ? 8 : shape.spp;
 }
 
-std::string AllocationConfig::validate(const RunShape& shape) const {
-  if (const std::string problem = shape.validate(); !problem.empty()) return problem;
-  if (initialSpp < 0) return "the initial spp must not be negative";
-  if (!shape.openEnded && initialSpp > shape.spp) return "the initial spp must not exceed spp";
-  if (rounds < 1) return "rounds must be at least 1";
-  if (batch < 0) return "the batch must not be negative";
+std::string AllocationConfig::check(const RunShape& shape) const {
+  if (!shape.openEnded && initialSpp > shape.spp) return "--initial-spp cannot exceed --spp";
   return {};
 }
 
@@ -72,8 +68,8 @@ void LuminanceSums::add(double luminance) {
 
 AllocationMethod::AllocationMethod(const PreparedScene& prepared, const RunShape& shape,
                                    const AllocationConfig& config, std::string name)
-    : prepared_(prepared),
-      shape_(shape),
+    : ProgressiveMethod(shape),
+      prepared_(prepared),
       config_(config),
       name_(std::move(name)),
       width_(prepared.scene.settings.width),
@@ -87,15 +83,9 @@ AllocationMethod::AllocationMethod(const PreparedScene& prepared, const RunShape
       sampleM2_(pixelCount_, vec3(0.0f)),
       selected_(pixelCount_, 0),
       rank_(pixelCount_, -1),
-      addedLastRound_(pixelCount_, 0) {
-  if (const std::string error = config.validate(shape); !error.empty())
-    throw std::invalid_argument(error);
-  start_ = Clock::now();
-}
+      addedLastRound_(pixelCount_, 0) {}
 
-bool AllocationMethod::done() const {
-  return schedule_.finished(drawnTotal_) || stoppedByRule(shape_, secondsSince(start_));
-}
+bool AllocationMethod::budgetSpent() const { return schedule_.finished(drawnTotal_); }
 
 vec3 AllocationMethod::sampleVarianceOfMean(size_t p) const {
   const uint32_t n = kept_[p];
@@ -154,7 +144,7 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
     for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
     if (shape_.noiseThreshold > 0) {
       // Pixels whose shown value is already below the threshold get nothing.
-      std::erase_if(order, [&](uint32_t p) { return shownError_[p] < shape_.noiseThreshold; });
+      std::erase_if(order, [&](uint32_t p) { return shape_.converged(shownError_[p]); });
       for (int32_t& r : rank_) r = -1;
       for (size_t r = 0; r < order.size(); ++r) rank_[order[r]] = int32_t(r);
     }
@@ -169,7 +159,7 @@ void AllocationMethod::runRound(const std::atomic<bool>* cancel) {
       placeSamples(p, count, landing);
       if (shape_.noiseThreshold > 0)  // GEM's spread samples stay out of converged pixels too
         for (uint32_t& l : landing)
-          if (shownError_[l] < shape_.noiseThreshold) l = p;
+          if (shape_.converged(shownError_[l])) l = p;
       for (uint32_t l : landing) plan.push_back({l, drawn_[l]++});
       budget -= uint64_t(count);
       ++chosen;
@@ -252,7 +242,7 @@ std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
   snap->raw = Image(width_, height_);
   for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = pixelMean(p);
   // A score has no fixed scale: its colour range ends at its 99th percentile.
-  snap->addMap(MapId::ErrorEstimate, scoreName(), scores_,
+  snap->addMap(maps::ErrorEstimate, scoreName(), scores_,
                MapLegend::sequential(0.0f, percentileOf(scores_, 0.99f)));
   addSelectedMap(*snap, selected_);
   addSampleCountMaps(*snap, kept_, drawn_);
@@ -264,7 +254,7 @@ std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
   finishSnapshot(*snap, reconstructImage, cancel);
   times_.reconstruct += secondsSince(start);
   snap->times = times_;
-  snap->seconds = secondsSince(start_);
+  snap->seconds = seconds();
   return snap;
 }
 
@@ -280,7 +270,7 @@ PixelInspection AllocationMethod::inspect(int x, int y) const {
   in.rankedPixels = rankedLastRound_;
   char line[200];
   std::snprintf(line, sizeof line, "%s %.4g", scoreName().c_str(), double(scores_[p]));
-  in.addValue(scoreName(), {scores_[p]}, line, MapId::ErrorEstimate);
+  in.addValue(scoreName(), {scores_[p]}, line, maps::ErrorEstimate);
   if (in.rank >= 0) {
     std::snprintf(line, sizeof line, "rank %d; the last round sampled the top %zu", in.rank + 1,
                   in.rankedPixels);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include "core/clock.h"
+#include "methods/method.h"
 #include "methods/params.h"
 #include "methods/progressive.h"
 #include "methods/run_shape.h"
@@ -39,12 +40,37 @@ struct AllocationConfig {
 
   int effectiveInitialSpp(const RunShape& shape) const;
   int effectiveBatch(const RunShape& shape) const;
-  // Empty when valid for a run of this shape, else a message naming the offending parameter.
-  std::string validate(const RunShape& shape) const;
+  // What the table's ranges cannot say: empty when valid for a run of this shape, else a
+  // message naming the flags.
+  std::string check(const RunShape& shape) const;
 };
 
 // The parameters every baseline shares, for its own table (params.h).
 const ParamTable<AllocationConfig>& allocationParams();
+
+// A baseline's descriptor (methods/method.h): the framework's maps (with `extraMaps`), its
+// abilities (it keeps each pixel's variance, adapts and estimates its error; `filters` when the
+// criterion reconstructs) and checks, with the criterion's name, description, table and maker.
+template <typename Config>
+MethodDefinition<Config> allocationDefinition(
+    std::string name, std::string description, const ParamTable<Config>& params,
+    std::unique_ptr<ProgressiveMethod> (*make)(const PreparedScene&, const RunShape&,
+                                               const Config&),
+    bool filters = false, std::vector<const MapKind*> extraMaps = {}) {
+  std::vector<const MapKind*> kinds = {&maps::ErrorEstimate, &maps::Selected, &maps::SampleCount,
+                                       &maps::TracedCount};
+  kinds.insert(kinds.end(), extraMaps.begin(), extraMaps.end());
+  return {.name = std::move(name),
+          .description = std::move(description),
+          .params = &params,
+          .maps = std::move(kinds),
+          .abilities =
+              [filters](const Config&) {
+                return MethodAbilities{true, filters, true, true};
+              },
+          .check = [](const Config& c, const RunShape& shape) { return c.check(shape); },
+          .make = make};
+}
 
 namespace adaptive {
 
@@ -71,7 +97,6 @@ class AllocationMethod : public ProgressiveMethod {
                    const AllocationConfig& config, std::string name);
 
   void runRound(const std::atomic<bool>* cancel) override;
-  bool done() const override;
   int roundsDone() const override { return rounds_; }
   size_t memoryBytes() const override;
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
@@ -87,6 +112,7 @@ class AllocationMethod : public ProgressiveMethod {
   virtual std::vector<float> shownRelativeError() const;
 
  protected:
+  bool budgetSpent() const override;
   // Adds a finite sample to the pixel's statistics. Called from worker threads, but for
   // one pixel by one thread at a time, in sample order.
   virtual void addSample(size_t pixel, uint32_t index, vec3 radiance) = 0;
@@ -111,7 +137,6 @@ class AllocationMethod : public ProgressiveMethod {
   static void forEachPixel(size_t count, const std::function<void(size_t)>& body);
 
   const PreparedScene& prepared_;
-  RunShape shape_;
   AllocationConfig config_;
   std::string name_;
   int width_, height_;
@@ -136,7 +161,6 @@ class AllocationMethod : public ProgressiveMethod {
   uint64_t drawnTotal_ = 0;
   method::Counters counters_;
   PhaseTimes times_;
-  Clock::time_point start_;
 };
 
 }  // namespace penumbra

@@ -53,10 +53,11 @@ SumPair deterministicSums(size_t n, F f) {
 
 std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<const uint32_t> count,
                                       uint64_t budget, const ErrorAllocation& config, uint64_t seed,
-                                      int round) {
+                                      int round, std::span<const uint8_t> converged) {
   const size_t n = error.size();
   std::vector<uint32_t> out(n, 0);
-  if (n == 0 || budget == 0 || count.size() != n) return out;
+  if (n == 0 || budget == 0 || count.size() != n || (!converged.empty() && converged.size() != n))
+    return out;
   float top = 0;
   for (float e : error)
     if (std::isfinite(e)) top = std::max(top, e);
@@ -67,7 +68,7 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
   size_t activeCount = 0;
   for (size_t p = 0; p < n; ++p) {
     const double e = std::isfinite(error[p]) ? std::max(0.0f, error[p]) : top;
-    const bool active = !(config.noiseThreshold > 0 && e < config.noiseThreshold);
+    const bool active = converged.empty() || !converged[p];
     root[p] = active ? std::sqrt(e * std::max<uint32_t>(count[p], 1)) : 0.0;
     have[p] = active ? double(count[p]) : HUGE_VAL;
     countSum += count[p];

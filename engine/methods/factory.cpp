@@ -1,151 +1,117 @@
 #include "methods/factory.h"
 
+#include <algorithm>
 #include <stdexcept>
-#include <type_traits>
 
 namespace penumbra {
 
-namespace {
-struct Entry {
-  MethodKind kind;
-  const char* name;
-  const char* description;
-};
-constexpr Entry kMethods[] = {
-    {MethodKind::Ld, "ld", "Low discrepancy (box filter)"},
-    {MethodKind::Bp, "bp", "BP networks (the paper's method)"},
-    {MethodKind::FDiv, "fdiv", "F-divergence, Hellinger (Rigau et al. 2003)"},
-    {MethodKind::Fuzzy, "fuzzy", "Fuzzy uncertainty (re-implemented, after Xu et al. 2008)"},
-    {MethodKind::Gem, "gem", "GEM (Rousselle et al. 2011)"},
-    {MethodKind::Cycles, "cycles", "Cycles half-buffer error (Dammertz et al. 2010)"},
-};
+#define PENUMBRA_METHOD(function) const MethodDescriptor& function();
+#include "methods/method_list.inc"
+#undef PENUMBRA_METHOD
 
-template <typename Config>
-std::vector<MethodParam> erase(const ParamTable<Config>& table) {
-  std::vector<MethodParam> out;
-  for (const Param<Config>& p : table.params())
-    out.push_back(rebindParam<MethodConfig>(
-        p, [](auto& c) -> auto& { return std::get<Config>(c); }));
+const MethodRegistry& builtinMethods() {
+#define PENUMBRA_METHOD(function) &function(),
+  static const MethodRegistry registry({
+#include "methods/method_list.inc"
+  });
+#undef PENUMBRA_METHOD
+  return registry;
+}
+
+MethodRegistry::MethodRegistry(std::vector<const MethodDescriptor*> methods)
+    : methods_(std::move(methods)) {
+  for (const MethodDescriptor* m : methods_) {
+    if (std::find(names_.begin(), names_.end(), m->name()) == names_.end())
+      names_.push_back(m->name());
+    for (const MapKind* kind : m->maps())
+      if (std::find(maps_.begin(), maps_.end(), kind) == maps_.end()) maps_.push_back(kind);
+  }
+  for (const MapKind* kind : maps::kShared)
+    if (std::find(maps_.begin(), maps_.end(), kind) == maps_.end()) maps_.push_back(kind);
+  // The overlays by key, then the files-only maps in the methods' order.
+  std::stable_sort(maps_.begin(), maps_.end(), [](const MapKind* a, const MapKind* b) {
+    const int ka = a->key > 0 ? a->key : 1 << 30, kb = b->key > 0 ? b->key : 1 << 30;
+    return ka < kb;
+  });
+}
+
+std::string MethodRegistry::nameList() const {
+  std::string text;
+  for (const std::string& n : names_) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+const MethodDescriptor* MethodRegistry::find(std::string_view name, std::string_view preset) const {
+  for (const MethodDescriptor* m : methods_)
+    if (m->name() == name && (preset.empty() || m->preset(preset))) return m;
+  return nullptr;
+}
+
+std::vector<std::pair<const MethodDescriptor*, const MethodDescriptor::Preset*>>
+MethodRegistry::presetsOf(std::string_view name) const {
+  std::vector<std::pair<const MethodDescriptor*, const MethodDescriptor::Preset*>> out;
+  for (const MethodDescriptor* m : methods_)
+    if (m->name() == name)
+      for (const MethodDescriptor::Preset& p : m->presets()) out.emplace_back(m, &p);
   return out;
 }
-}  // namespace
 
-const std::vector<MethodParam>& methodParams(MethodKind kind) {
-  static const std::vector<MethodParam> none;
-  static const std::vector<MethodParam> ld = erase(ldParams());
-  static const std::vector<MethodParam> bp = erase(bpParams());
-  static const std::vector<MethodParam> fdiv = erase(fdivParams());
-  static const std::vector<MethodParam> fuzzy = erase(fuzzyParams());
-  static const std::vector<MethodParam> gem = erase(gemParams());
-  static const std::vector<MethodParam> cycles = erase(cyclesParams());
-  switch (kind) {
-    case MethodKind::Ld:
-      return ld;
-    case MethodKind::Bp:
-      return bp;
-    case MethodKind::FDiv:
-      return fdiv;
-    case MethodKind::Fuzzy:
-      return fuzzy;
-    case MethodKind::Gem:
-      return gem;
-    case MethodKind::Cycles:
-      return cycles;
+MethodConfig MethodRegistry::configFor(std::string_view name, std::string_view preset) const {
+  const MethodDescriptor* method = find(name);
+  if (!method)
+    throw std::invalid_argument("unknown method '" + std::string(name) +
+                                "' (expected one of: " + nameList() + ")");
+  if (preset.empty()) return method->defaults();
+  method = find(name, preset);
+  if (!method) {
+    std::string names;
+    for (const auto& [m, p] : presetsOf(name)) names += (names.empty() ? "" : ", ") + p->name;
+    throw std::invalid_argument(std::string(name) + " has no preset '" + std::string(preset) + "'" +
+                                (names.empty() ? " (it has none)" : " (it has: " + names + ")"));
   }
-  return none;
+  MethodConfig config = method->defaults();
+  method->preset(preset)->apply(config);
+  return config;
 }
 
-std::string describeChanges(const MethodSpec& spec, const MethodConfig& base) {
+std::optional<MapId> MethodRegistry::mapByName(std::string_view name) const {
+  if (name == "none") return MapId();
+  for (const MapKind* kind : maps_)
+    if (name == kind->name || (kind->alias && name == kind->alias)) return MapId(*kind);
+  return std::nullopt;
+}
+
+std::vector<const MethodDescriptor*> MethodRegistry::readersOf(std::string_view name) const {
+  std::vector<const MethodDescriptor*> out;
+  for (const MethodDescriptor* m : methods_)
+    if (m->param(name)) out.push_back(m);
+  return out;
+}
+
+std::string describeChanges(const MethodConfig& config, const MethodConfig& base) {
   std::string text;
-  for (const MethodParam& p : methodParams(spec.kind())) {
-    const std::string value = formatParam(p, spec.config);
+  for (const MethodParam& p : config.method().params()) {
+    const std::string value = formatParam(p, config);
     if (value != formatParam(p, base)) text += (text.empty() ? "" : " ") + p.name + "=" + value;
   }
   return text;
 }
 
-std::optional<MethodKind> parseMethodKind(std::string_view name) {
-  for (const Entry& e : kMethods)
-    if (name == e.name) return e.kind;
-  return std::nullopt;
-}
-
-const char* toString(MethodKind kind) {
-  for (const Entry& e : kMethods)
-    if (e.kind == kind) return e.name;
-  return "?";
-}
-
-const char* describe(MethodKind kind) {
-  for (const Entry& e : kMethods)
-    if (e.kind == kind) return e.description;
-  return "?";
-}
-
-const std::vector<std::string>& methodNames() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> v;
-    for (const Entry& e : kMethods) v.push_back(e.name);
-    return v;
-  }();
-  return names;
-}
-
-MethodConfig defaultConfig(MethodKind kind) {
-  switch (kind) {
-    case MethodKind::Ld:
-      return LdConfig{};
-    case MethodKind::Bp:
-      return BpConfig{};
-    case MethodKind::FDiv:
-      return FDivConfig{};
-    case MethodKind::Fuzzy:
-      return FuzzyConfig{};
-    case MethodKind::Gem:
-      return GemConfig{};
-    case MethodKind::Cycles:
-      return CyclesConfig{};
-  }
-  throw std::invalid_argument("unknown method");
-}
-
-std::vector<MethodConfig> defaultConfigs() {
-  std::vector<MethodConfig> configs;
-  for (const Entry& e : kMethods) configs.push_back(defaultConfig(e.kind));
-  return configs;
-}
-
 std::string validate(const MethodSpec& s) {
-  return std::visit(
-      [&](const auto& c) -> std::string {
-        using Config = std::decay_t<decltype(c)>;
-        if constexpr (std::is_same_v<Config, LdConfig>) {
-          return s.shape.validate();
-        } else {
-          if constexpr (std::is_same_v<Config, GemConfig>)
-            if (!(c.gamma > 0.0f && c.gamma < 1.0f / 1.9f)) return "gamma must be in (0, 0.526)";
-          return c.validate(s.shape);
-        }
-      },
-      s.config);
+  if (std::string problem = s.shape.validate(); !problem.empty()) return problem;
+  const MethodDescriptor& method = s.method();
+  if (std::string problem = checkParams(method.params(), s.config); !problem.empty())
+    return problem;
+  return method.check(s.config, s.shape);
+}
+
+void requireValid(const MethodSpec& spec) {
+  if (const std::string error = validate(spec); !error.empty()) throw std::invalid_argument(error);
 }
 
 std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared, const MethodSpec& s) {
-  if (const std::string error = validate(s); !error.empty()) throw std::invalid_argument(error);
-  return std::visit(
-      [&](const auto& c) -> std::unique_ptr<ProgressiveMethod> {
-        using Config = std::decay_t<decltype(c)>;
-        if constexpr (std::is_same_v<Config, LdConfig>) return makeLdMethod(prepared, s.shape, c);
-        if constexpr (std::is_same_v<Config, BpConfig>) return makeBpMethod(prepared, s.shape, c);
-        if constexpr (std::is_same_v<Config, FDivConfig>)
-          return makeFDivMethod(prepared, s.shape, c);
-        if constexpr (std::is_same_v<Config, FuzzyConfig>)
-          return makeFuzzyMethod(prepared, s.shape, c);
-        if constexpr (std::is_same_v<Config, GemConfig>) return makeGemMethod(prepared, s.shape, c);
-        if constexpr (std::is_same_v<Config, CyclesConfig>)
-          return makeCyclesMethod(prepared, s.shape, c);
-      },
-      s.config);
+  requireValid(s);
+  return s.method().make(prepared, s);
 }
 
 }  // namespace penumbra

@@ -1,66 +1,64 @@
 // Every rendering method by name, and the one factory `render`, `view`, `compare` and
-// `reference` build methods with: a MethodSpec is the run's shape (the same for every
-// method, ALGORITHM.md §11's fair comparison) and the chosen method's own configuration.
+// `reference` build methods with. The methods are the descriptors of methods/method_list.inc,
+// one line each; a MethodRegistry is such a list (the tests make their own, with a toy method
+// added), and everything here folds over it.
 #pragma once
 
-#include "methods/bp/method.h"
-#include "methods/cycles.h"
-#include "methods/fdiv.h"
-#include "methods/fuzzy.h"
-#include "methods/gem.h"
-#include "methods/ld.h"
-#include "methods/run_shape.h"
+#include "methods/method.h"
 
-#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 namespace penumbra {
 
-// In the order of MethodConfig's alternatives.
-enum class MethodKind { Ld, Bp, FDiv, Fuzzy, Gem, Cycles };
+class MethodRegistry {
+ public:
+  explicit MethodRegistry(std::vector<const MethodDescriptor*> methods);
 
-using MethodConfig =
-    std::variant<LdConfig, BpConfig, FDivConfig, FuzzyConfig, GemConfig, CyclesConfig>;
+  const std::vector<const MethodDescriptor*>& methods() const { return methods_; }
+  // Each name once, in the list's order: "ld", "bp", "fdiv", ...
+  const std::vector<std::string>& names() const { return names_; }
+  // "ld, bp, fdiv, ...", for messages and help.
+  std::string nameList() const;
+  // The descriptor of `name` that has `preset` (empty: the name's first descriptor); nullptr
+  // when there is none.
+  const MethodDescriptor* find(std::string_view name, std::string_view preset = {}) const;
+  // Every preset of `name`, over its algorithms, in order.
+  std::vector<std::pair<const MethodDescriptor*, const MethodDescriptor::Preset*>> presetsOf(
+      std::string_view name) const;
+  // The configuration `name` with `preset` gives (empty: the defaults of its first descriptor).
+  // Throws std::invalid_argument naming what is unknown.
+  MethodConfig configFor(std::string_view name, std::string_view preset = {}) const;
+  // Every map a method may publish, and the shared ones, each once: the overlays (by key)
+  // first, then the maps only --aov-dir writes.
+  const std::vector<const MapKind*>& maps() const { return maps_; }
+  // A map by its name or alias; "none" gives the empty id.
+  std::optional<MapId> mapByName(std::string_view name) const;
+  // The descriptors that read parameter `name`.
+  std::vector<const MethodDescriptor*> readersOf(std::string_view name) const;
 
-std::optional<MethodKind> parseMethodKind(std::string_view name);
-const char* toString(MethodKind kind);
-// "ld", "bp", "fdiv", "fuzzy", "gem", "cycles".
-const std::vector<std::string>& methodNames();
-// One line for people: "Low discrepancy (box filter)", "Fuzzy uncertainty (re-implemented)".
-const char* describe(MethodKind kind);
-// The method's default configuration, and every method's, in MethodKind's order.
-MethodConfig defaultConfig(MethodKind kind);
-std::vector<MethodConfig> defaultConfigs();
-
-struct MethodSpec {
-  RunShape shape;
-  MethodConfig config;  // LdConfig by default
-
-  MethodKind kind() const { return MethodKind(config.index()); }
-  template <typename Config>
-  Config* get() {
-    return std::get_if<Config>(&config);
-  }
-  template <typename Config>
-  const Config* get() const {
-    return std::get_if<Config>(&config);
-  }
+ private:
+  std::vector<const MethodDescriptor*> methods_;
+  std::vector<std::string> names_;
+  std::vector<const MapKind*> maps_;
 };
 
-// The method's parameters over MethodConfig (each entry reads and writes the alternative of
-// `kind`), for code that handles every method alike: the command line, the panel, the stats.
-using MethodParam = Param<MethodConfig>;
-const std::vector<MethodParam>& methodParams(MethodKind kind);
-// "nit=20 sigma-c=0.1": the parameters of `spec` that differ from `base` (of the same method).
-std::string describeChanges(const MethodSpec& spec, const MethodConfig& base);
+// The methods of methods/method_list.inc.
+const MethodRegistry& builtinMethods();
 
-// Empty when the spec is valid, else a message naming the parameter.
+// "nit=20 sigma-c=0.1": the parameters of `config` that differ from `base` (of the same method).
+std::string describeChanges(const MethodConfig& config, const MethodConfig& base);
+
+// Empty when the spec is valid, else a message naming the flag: the run shape's and the method's
+// parameters against their tables' ranges, then the method's own cross-parameter checks.
 std::string validate(const MethodSpec& spec);
-// Throws std::invalid_argument with validate()'s message; the scene must outlive it.
+// Throws std::invalid_argument with validate()'s message: what a method's own make function
+// calls when a test makes the method directly.
+void requireValid(const MethodSpec& spec);
+// Validates, then makes the method; the scene must outlive it.
 std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared,
                                               const MethodSpec& spec);
 

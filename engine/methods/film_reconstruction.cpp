@@ -9,37 +9,6 @@
 
 namespace penumbra {
 
-const ParamTable<recon::DenoiseConfig>& denoiseParams() {
-  static const ParamTable<recon::DenoiseConfig> table = [] {
-    ParamTable<recon::DenoiseConfig> t;
-    t.group("Reconstruction (NL-means, features, SURE)")
-        .real(
-            "nl-k", "colour k", "NL-means colour strength k (RECONSTRUCTION.md section 2)",
-            [](auto& c) -> auto& { return c.k; }, 1e-3, 100, {0.05, 2}, true)
-        .integer("nl-patch", "patch radius",
-                 "NL-means patch radius: colour distances are averaged over (2r + 1)^2 pixels",
-                 [](auto& c) -> auto& { return c.patchRadius; }, 0, 8, {0, 4})
-        .integer("sure-smooth", "SURE smoothing",
-                 "Box radius over which each scale's SURE map is smoothed before the choice",
-                 [](auto& c) -> auto& { return c.sureSmoothRadius; }, 0, 16, {0, 6})
-        .real(
-            "feature-k", "feature k_f", "Feature weight strength k_f (section 3)",
-            [](auto& c) -> auto& { return c.kFeature; }, 1e-3, 100, {0.05, 4}, true)
-        .toggle(
-            "features", "feature weights", "Colour weights only: no albedo, normal, depth terms",
-            "--no-features", [](auto& c) -> auto& { return c.useFeatures; })
-        .toggle(
-            "demodulate", "albedo demodulation", "Filter radiance, not radiance over albedo",
-            "--no-demodulate", [](auto& c) -> auto& { return c.demodulate; })
-        .toggle(
-            "cross-filter", "cross-filtering",
-            "Weights from the pixel's own mean instead of the other half buffer",
-            "--no-cross-filter", [](auto& c) -> auto& { return c.crossFilter; });
-    return t;
-  }();
-  return table;
-}
-
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel) {
   const FilmBuffers b = film.buffers();
@@ -111,15 +80,15 @@ void addFilmMaps(Snapshot& snap, const Film& film) {
       emission[3 * p + k] = b.emission[p][k];
       depth[p] = b.depth[p];
     }
-  snap.addMap(MapId::Albedo, "albedo", std::move(albedo), MapLegend::rgb());
-  snap.addMap(MapId::Normal, "normal (0.5 + 0.5 n)", std::move(normal), MapLegend::rgb());
+  snap.addMap(maps::Albedo, "albedo", std::move(albedo), MapLegend::rgb());
+  snap.addMap(maps::Normal, "normal (0.5 + 0.5 n)", std::move(normal), MapLegend::rgb());
   const float depthTop = std::max(1e-3f, percentileOf(depth, 0.99f));
-  snap.addMap(MapId::Depth, "depth / mean depth", std::move(depth),
+  snap.addMap(maps::Depth, "depth / mean depth", std::move(depth),
               MapLegend::sequential(0.0f, depthTop));
-  snap.addMap(MapId::Emission, "directly seen emission", std::move(emission), MapLegend::rgb());
+  snap.addMap(maps::Emission, "directly seen emission", std::move(emission), MapLegend::rgb());
   std::vector<float> raw = rawRelativeError(film);
   const float rawTop = std::max(1e-6f, percentileOf(raw, 0.99f));
-  snap.addMap(MapId::RawError, "raw relMSE (estimated)", std::move(raw),
+  snap.addMap(maps::RawError, "raw relMSE (estimated)", std::move(raw),
               MapLegend::sequential(0.0f, rawTop));
 }
 
@@ -127,10 +96,10 @@ void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
                            const recon::DenoiseConfig& config, const std::vector<float>& error) {
   std::vector<std::string> labels{"identity"};
   for (int r : config.radii) labels.push_back("r=" + std::to_string(r));
-  snap.addMap(MapId::FilterScale, "filter window", asFloats(result.scale),
+  snap.addMap(maps::FilterScale, "filter window", asFloats(result.scale),
               MapLegend::categorical(std::move(labels)));
   const float top = std::max(1e-6f, percentileOf(error, 0.99f));
-  snap.addMap(MapId::ErrorEstimate, "relMSE (estimated, filtered)", error,
+  snap.addMap(maps::ErrorEstimate, "relMSE (estimated, filtered)", error,
               MapLegend::sequential(0.0f, top));
 }
 

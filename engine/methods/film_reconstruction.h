@@ -1,6 +1,6 @@
-// The consistent reconstruction of a film (methods/recon/denoise.h) as the methods that
-// filter use it (`ld` with --filter, BP's consistent algorithm): its parameters for the
-// command line and the panel, the per-pixel error it estimates (what allocation ranks and
+// The consistent reconstruction of a film (methods/recon/denoise.h, whose denoiseParams() are
+// the filter's flags) as the methods that filter use it (`ld` with --filter, BP's consistent
+// algorithm): the per-pixel error it estimates (what allocation ranks and
 // the noise threshold tests), and the maps that show the film's features and the filter's
 // choices.
 #pragma once
@@ -14,10 +14,6 @@
 #include <vector>
 
 namespace penumbra {
-
-// The filter's parameters, shared by every method that has a `denoise` member (the same
-// names, so one flag sets them all).
-const ParamTable<recon::DenoiseConfig>& denoiseParams();
 
 // Denoises the film's buffers.
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
@@ -33,6 +29,20 @@ std::vector<float> rawRelativeError(const Film& film);
 float relativeErrorRegulariser(vec3 mean);
 // The mean of a per-pixel map's finite values (0 when none).
 double meanOf(const std::vector<float>& values);
+
+namespace maps {
+// The film's first-hit features and buffers (methods/film.h), published by addFilmMaps:
+inline constexpr MapKind Albedo{"albedo", nullptr, "Albedo (first hit)", 8};  // linear RGB
+// The mean shading normal there, shown as 0.5 + 0.5 n.
+inline constexpr MapKind Normal{"normal", nullptr, "Normal (first hit)", 9};
+inline constexpr MapKind Depth{"depth", nullptr, "Depth (first hit)", 10};  // over the mean
+inline constexpr MapKind Emission{"emission", nullptr, "Directly seen emission", 11};
+// The estimated relative squared error of the unfiltered pixel mean.
+inline constexpr MapKind RawError{"raw_error", nullptr, "Raw estimate's relMSE (estimated)", 12};
+// The maps addFilmMaps publishes, and what a method with a film and its reconstruction lists
+// in its descriptor (these, and the framework's maps::shared()).
+inline constexpr const MapKind* kFilm[] = {&Albedo, &Normal, &Depth, &Emission, &RawError};
+}  // namespace maps
 
 // Albedo, normal, depth, directly seen emission and the raw image's estimated relative error.
 void addFilmMaps(Snapshot& snap, const Film& film);

@@ -10,6 +10,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -30,9 +31,14 @@ struct Param {
   std::string label;  // the panel's
   std::string group;  // the command line's section and the panel's tree node
   std::string help;
-  double min = 0, max = 0;      // Int, Float, FloatList elements: the accepted range
-  double uiMin = 0, uiMax = 0;  // the panel slider's range (inside min..max)
-  bool logarithmic = false;     // the panel slider's scale
+  double min = 0, max = 0;                // Int, Float, FloatList elements: the accepted range
+  bool minOpen = false, maxOpen = false;  // the range excludes min, max
+  double uiMin = 0, uiMax = 0;            // the panel slider's range (inside min..max)
+  bool logarithmic = false;               // the panel slider's scale
+  bool field = false;  // the panel shows a text field, not a slider (a seed, seconds)
+  // For a table that serves several commands (the run's shape): a mask of those the entry
+  // applies to; ~0: all.
+  unsigned scope = ~0u;
   std::vector<std::string> choices;
   std::string flag;  // Flag: e.g. "--no-warping"
   // Int, Float, Flag (0 or 1) and Choice (the index) as a double, which holds them exactly.
@@ -61,6 +67,10 @@ Param<To> rebindParam(const Param<From>& from, Part part) {
   to.help = from.help;
   to.min = from.min;
   to.max = from.max;
+  to.minOpen = from.minOpen;
+  to.maxOpen = from.maxOpen;
+  to.field = from.field;
+  to.scope = from.scope;
   to.uiMin = from.uiMin;
   to.uiMax = from.uiMax;
   to.logarithmic = from.logarithmic;
@@ -87,21 +97,27 @@ class ParamTable {
     group_ = std::move(name);
     return *this;
   }
-  ParamTable& integer(std::string name, std::string label, std::string help, int& (*ref)(Config&),
-                      double min, double max, UiRange ui = {}) {
+  // An int field; integer<uint64_t> for a wider one (whole numbers up to 2^53 pass exactly).
+  template <typename Int = int>
+  ParamTable& integer(std::string name, std::string label, std::string help,
+                      std::type_identity_t<Int>& (*ref)(Config&), double min, double max,
+                      UiRange ui = {}) {
     Param<Config> p = start(ParamKind::Int, std::move(name), std::move(label), std::move(help));
     range(p, min, max, ui);
     p.get = [ref](const Config& c) { return double(ref(const_cast<Config&>(c))); };
-    p.set = [ref](Config& c, double v) { ref(c) = int(std::lround(v)); };
+    p.set = [ref](Config& c, double v) { ref(c) = Int(std::llround(v)); };
     return add(std::move(p));
   }
-  ParamTable& real(std::string name, std::string label, std::string help, float& (*ref)(Config&),
-                   double min, double max, UiRange ui = {}, bool logarithmic = false) {
+  // A float field; real<double> for a double.
+  template <typename Real = float>
+  ParamTable& real(std::string name, std::string label, std::string help,
+                   std::type_identity_t<Real>& (*ref)(Config&), double min, double max,
+                   UiRange ui = {}, bool logarithmic = false) {
     Param<Config> p = start(ParamKind::Float, std::move(name), std::move(label), std::move(help));
     range(p, min, max, ui);
     p.logarithmic = logarithmic;
     p.get = [ref](const Config& c) { return double(ref(const_cast<Config&>(c))); };
-    p.set = [ref](Config& c, double v) { ref(c) = float(v); };
+    p.set = [ref](Config& c, double v) { ref(c) = Real(v); };
     return add(std::move(p));
   }
   // `flag` sets the field to the opposite of its default (e.g. --no-warping).
@@ -153,6 +169,21 @@ class ParamTable {
     for (const Param<Part>& b : other.params()) params_.push_back(rebindParam<Config>(b, member));
     return *this;
   }
+  // Modifiers of the last entry: its range excludes min (max); the panel shows a text field;
+  // it applies only to the commands of `mask`.
+  ParamTable& open(bool min, bool max) {
+    params_.back().minOpen = min;
+    params_.back().maxOpen = max;
+    return *this;
+  }
+  ParamTable& field() {
+    params_.back().field = true;
+    return *this;
+  }
+  ParamTable& scope(unsigned mask) {
+    params_.back().scope = mask;
+    return *this;
+  }
   const std::vector<Param<Config>>& params() const { return params_; }
 
  private:
@@ -183,6 +214,24 @@ inline std::string formatBound(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", v);
   return text;
+}
+
+// Whether `v` is in the parameter's accepted range.
+template <typename Config>
+bool inRange(const Param<Config>& p, double v) {
+  return (p.minOpen ? v > p.min : v >= p.min) && (p.maxOpen ? v < p.max : v <= p.max);
+}
+// The accepted range for messages: "0..1", "(0, 0.5263)", "(0, 1e+06]".
+template <typename Config>
+std::string rangeText(const Param<Config>& p) {
+  if (!p.minOpen && !p.maxOpen) return formatBound(p.min) + ".." + formatBound(p.max);
+  return std::string(p.minOpen ? "(" : "[") + formatBound(p.min) + ", " + formatBound(p.max) +
+         (p.maxOpen ? ")" : "]");
+}
+// "--name": how messages name the parameter (a toggle by its flag).
+template <typename Config>
+std::string flagOf(const Param<Config>& p) {
+  return p.kind == ParamKind::Flag && !p.flag.empty() ? p.flag : "--" + p.name;
 }
 
 // The value as text: "8", "0.05", "true", "hellinger", "0.1,1,3".
@@ -225,21 +274,19 @@ std::string parseParam(const Param<Config>& p, Config& c, std::string_view text)
     v = std::strtod(s.c_str(), &end);
     return !s.empty() && end == s.c_str() + s.size() && std::isfinite(v);
   };
-  auto inRange = [&](double v) {
-    return v >= p.min && v <= p.max
-               ? std::string()
-               : what + ": must be in " + formatBound(p.min) + ".." + formatBound(p.max);
+  auto within = [&](double v) {
+    return inRange(p, v) ? std::string() : what + ": must be in " + rangeText(p);
   };
   double v = 0;
   switch (p.kind) {
     case ParamKind::Int:
       if (!number(text, v) || v != std::floor(v)) return what + ": expected a whole number";
-      if (std::string e = inRange(v); !e.empty()) return e;
+      if (std::string e = within(v); !e.empty()) return e;
       p.set(c, v);
       return {};
     case ParamKind::Float:
       if (!number(text, v)) return what + ": expected a number";
-      if (std::string e = inRange(v); !e.empty()) return e;
+      if (std::string e = within(v); !e.empty()) return e;
       p.set(c, v);
       return {};
     case ParamKind::Flag:
@@ -267,7 +314,7 @@ std::string parseParam(const Param<Config>& p, Config& c, std::string_view text)
       while (start <= text.size()) {
         const size_t comma = std::min(text.find(',', start), text.size());
         if (!number(text.substr(start, comma - start), v)) return what + ": expected numbers";
-        if (std::string e = inRange(v); !e.empty()) return e;
+        if (std::string e = within(v); !e.empty()) return e;
         values.push_back(float(v));
         start = comma + 1;
       }
@@ -276,6 +323,24 @@ std::string parseParam(const Param<Config>& p, Config& c, std::string_view text)
     }
   }
   return what + ": unknown parameter kind";
+}
+
+// Empty when every parameter of `config` is in its table's range, else what is wrong with the
+// first that is not, naming its flag: "--gamma 0.6: must be in (0, 0.5263)". The one place the
+// ranges are checked: the command line, the panel and the factory all come here.
+template <typename Config>
+std::string checkParams(const std::vector<Param<Config>>& params, const Config& c) {
+  for (const Param<Config>& p : params) {
+    if (p.kind == ParamKind::FloatList) {
+      for (float v : p.getList(c))
+        if (!inRange(p, v))
+          return flagOf(p) + " " + formatParam(p, c) + ": each value must be in " + rangeText(p);
+    } else if (p.kind == ParamKind::Int || p.kind == ParamKind::Float) {
+      if (!inRange(p, p.get(c)))
+        return flagOf(p) + " " + formatParam(p, c) + ": must be in " + rangeText(p);
+    }
+  }
+  return {};
 }
 
 }  // namespace penumbra

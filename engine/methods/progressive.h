@@ -1,9 +1,11 @@
 // Progressive rendering: a method runs in rounds (round 0 is the coarse pass) and, after
 // each round, can publish a Snapshot: the current image, raw and reconstructed, plus the
 // debug maps that explain its sampling decisions. RenderSession (session.h) drives a
-// method on a worker thread; `penumbra render` runs the same rounds in the foreground.
+// method on a worker thread; `penumbra render` and `compare` run the same rounds in the
+// foreground. A method is made from its descriptor (method.h) by the factory (factory.h).
 #pragma once
 
+#include "core/clock.h"
 #include "core/image.h"
 #include "methods/run_shape.h"
 #include "methods/snapshot.h"
@@ -42,7 +44,7 @@ struct InspectedSlice {
 };
 // A value a method explains a pixel with: one line of the inspector, formatted by the method.
 struct InspectedValue {
-  MapId map = MapId::None;    // the map the value is this pixel's entry of, if any
+  MapId map;                  // the map the value is this pixel's entry of, if any
   std::string label;          // what it is: "bias", "er", "mean I", the score's name
   std::vector<float> values;  // the number(s): one, or an RGB triple
   std::string line;           // what the inspector shows, e.g. "bias 0.412 > psi 0.050"
@@ -75,7 +77,7 @@ struct PixelInspection {
   // The first value of map `id` (or labelled `label`), or nullptr.
   const InspectedValue* value(MapId id) const {
     for (const InspectedValue& v : values)
-      if (v.map == id && id != MapId::None) return &v;
+      if (v.map == id && !id.none()) return &v;
     return nullptr;
   }
   const InspectedValue* value(std::string_view label) const {
@@ -84,7 +86,7 @@ struct PixelInspection {
     return nullptr;
   }
   InspectedValue& addValue(std::string label, std::vector<float> numbers, std::string line,
-                           MapId map = MapId::None) {
+                           MapId map = {}) {
     return values.emplace_back(
         InspectedValue{map, std::move(label), std::move(numbers), std::move(line)});
   }
@@ -106,11 +108,25 @@ inline PixelInspection startInspection(int x, int y, int width, int height, int 
 
 class ProgressiveMethod {
  public:
+  // Starts the method's clock: its wall time, which the time limit and the snapshots' seconds
+  // count from.
+  explicit ProgressiveMethod(const RunShape& shape) : shape_(shape), start_(Clock::now()) {}
   virtual ~ProgressiveMethod() = default;
-  // Runs the next round. `cancel` is polled at safe points (between pixels); after a
-  // cancelled round the method's state is unusable and the session discards it.
+  // Runs the next round (nothing once done()). `cancel` is polled at safe points (between
+  // pixels); after a cancelled round the method's state is unusable and the session discards it.
   virtual void runRound(const std::atomic<bool>* cancel) = 0;
-  virtual bool done() const = 0;  // budget spent (never true in open-ended mode)
+  // Whether the run is over: the method's budget is spent, or a stopping rule of the run's shape
+  // ends it (RunShape::timeLimit, noiseThreshold). The one place a run's end is decided: the
+  // methods, the session, `render` and `compare` all ask it.
+  bool done() const {
+    if (budgetSpent()) return true;
+    if (shape_.timeLimit > 0 && seconds() >= shape_.timeLimit) return true;
+    if (shape_.noiseThreshold > 0 && roundsDone() > 0) {
+      const double e = estimatedError();
+      return e == e && e < shape_.noiseThreshold;
+    }
+    return false;
+  }
   virtual int roundsDone() const = 0;
   // The state after the last completed round. The reconstruction is computed on demand
   // (its time counts in PhaseTimes::reconstruct); with reconstructImage false the
@@ -125,21 +141,23 @@ class ProgressiveMethod {
   // The mean over pixels of the estimated relMSE of the image the user gets (filtered, for a
   // method that filters), for the noise threshold; NaN for a method without an estimate.
   virtual double estimatedError() const { return NAN; }
-  // Whether the run's stopping rules (RunShape::timeLimit, noiseThreshold) end it now.
-  bool stoppedByRule(const RunShape& shape, double seconds) const {
-    if (shape.timeLimit > 0 && seconds >= shape.timeLimit) return true;
-    if (shape.noiseThreshold > 0 && roundsDone() > 0) {
-      const double e = estimatedError();
-      return e == e && e < shape.noiseThreshold;
-    }
-    return false;
-  }
+  // Wall seconds since the method was made.
+  double seconds() const { return secondsSince(start_); }
+  const RunShape& shape() const { return shape_; }
   // Bytes held for per-pixel state (samples, networks, accumulators).
   virtual size_t memoryBytes() const = 0;
   // The pixel whose candidates the next rounds record for inspect(); -1, -1 for none.
   virtual void setInspectedPixel(int x, int y) {}
   // The state of pixel (x, y) after the last completed round; invalid outside the image.
   virtual PixelInspection inspect(int x, int y) const = 0;
+
+ protected:
+  // The budget is spent (never, open-ended without a target spp).
+  virtual bool budgetSpent() const = 0;
+  const RunShape shape_;
+
+ private:
+  Clock::time_point start_;
 };
 
 }  // namespace penumbra

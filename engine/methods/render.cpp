@@ -1,6 +1,6 @@
 #include "methods/render.h"
 
-#include "methods/ld.h"
+#include "methods/ld/ld.h"
 
 #include <tbb/global_control.h>
 

@@ -7,16 +7,14 @@ namespace penumbra {
 RoundSchedule::RoundSchedule(const RunShape& shape, size_t pixelCount, int initialSpp, int rounds)
     : shape_(shape), pixelCount_(pixelCount), initialSpp_(initialSpp), rounds_(rounds) {}
 
-uint64_t RoundSchedule::totalBudget() const {
-  return uint64_t(shape_.openEnded ? shape_.maxSpp : shape_.spp) * pixelCount_;
-}
+uint64_t RoundSchedule::totalBudget() const { return uint64_t(shape_.spp) * pixelCount_; }
 
 uint64_t RoundSchedule::roundBudget(uint64_t spent, int round) const {
   const uint64_t total = totalBudget();
   const uint64_t remaining = total > spent ? total - spent : 0;
   if (shape_.openEnded) {
     const uint64_t budget = uint64_t(shape_.roundSpp) * pixelCount_;
-    return shape_.maxSpp > 0 ? std::min(budget, remaining) : budget;
+    return shape_.spp > 0 ? std::min(budget, remaining) : budget;
   }
   const int roundsLeft = std::max(1, rounds_ - round);
   return (remaining + roundsLeft - 1) / roundsLeft;
@@ -31,7 +29,7 @@ uint64_t RoundSchedule::growingRoundBudget(uint64_t spent, int round) const {
 }
 
 bool RoundSchedule::finished(uint64_t spent) const {
-  if (shape_.openEnded && shape_.maxSpp == 0) return false;
+  if (shape_.openEnded && shape_.spp == 0) return false;
   return spent >= totalBudget();
 }
 

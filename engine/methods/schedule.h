@@ -1,7 +1,7 @@
 // How every method spreads its budget over rounds (ALGORITHM.md §8, §10.2, §15): an
 // initial pass of N0 samples per pixel, then, in a batch run, each adaptive round spends an
 // equal share of what is left over the rounds left, so that exactly spp x #pixels samples
-// are spent; open-ended, each round spends roundSpp x #pixels until maxSpp is reached.
+// are spent; open-ended, each round spends roundSpp x #pixels until the target spp is reached.
 // Budgets count samples over the whole image (or per pixel, with pixelCount 1).
 #pragma once
 
@@ -18,16 +18,16 @@ class RoundSchedule {
   RoundSchedule(const RunShape& shape, size_t pixelCount, int initialSpp, int rounds);
 
   uint64_t initialBudget() const { return uint64_t(initialSpp_) * pixelCount_; }
-  // Batch: spp x #pixels; open-ended: maxSpp x #pixels (0 = no end).
+  // Batch: spp x #pixels; open-ended: the target spp x #pixels (0 = no end).
   uint64_t totalBudget() const;
   // What adaptive round `round` (from 0) may spend when `spent` samples are spent.
   uint64_t roundBudget(uint64_t spent, int round) const;
   // The same, but open-ended a round adds at least an eighth of what is spent (still capped
-  // by maxSpp): for the adaptive methods, whose per-round ranking and statistics then cost a
-  // bounded share of the time however long the run (the session publishes a few snapshots a
+  // by the target spp): for the adaptive methods, whose per-round ranking and statistics then cost
+  // a bounded share of the time however long the run (the session publishes a few snapshots a
   // second whatever the round length). Batch runs are as roundBudget.
   uint64_t growingRoundBudget(uint64_t spent, int round) const;
-  // The whole budget is spent (never, open-ended without maxSpp).
+  // The whole budget is spent (never, open-ended without the target spp).
   bool finished(uint64_t spent) const;
   int initialSpp() const { return initialSpp_; }
   int rounds() const { return rounds_; }

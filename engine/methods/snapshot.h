@@ -2,12 +2,12 @@
 // list of labelled debug maps that explain its sampling decisions. The method fills each map
 // itself: its values, its label (a baseline's score is labelled as that score) and its legend
 // (units, range, colour map, category labels). How a map is drawn (false colour, legend strips)
-// is engine/present's business; which maps exist and what they are called is mapTable()'s, the
-// one table the overlays, `render --aov-dir`, the report and the viewer read.
+// is engine/present's business; what a map is called and how the viewer and the report show it
+// is its MapKind's.
 //
-// Adding a debug map: a MapId and a row of mapTable() (snapshot.cpp), then the method's
-// snapshot() publishes it with Snapshot::addMap. Nothing else changes: the files, the
-// overlays (a row with a key) and the viewer follow the list.
+// Adding a debug map: a MapKind beside the method that makes it, listed in the method's
+// descriptor (methods/method.h), and Snapshot::addMap in its snapshot(). Nothing else changes:
+// the files, the overlays (a kind with a key), the report and the viewer follow the kinds.
 #pragma once
 
 #include "core/image.h"
@@ -23,28 +23,99 @@
 
 namespace penumbra {
 
-// Every debug map a snapshot can hold, and the viewer's "no overlay".
-enum class MapId : uint8_t {
-  None,  // no map: the viewer's "none" overlay
-  // The error estimate or score that drives sampling: BP's bias, a baseline's own score.
-  ErrorEstimate,
-  Selected,      // 1 where the last round added samples, else 0
-  FilterScale,   // the reconstruction filter chosen per pixel (BP's alpha, GEM's sigma)
-  SampleCount,   // kept samples per pixel
-  TracedCount,   // traced camera samples per pixel
-  NetworkError,  // er of the pixel's network (BP)
-  // The relative squared error against a reference: computed in present/, not by a method.
-  ReferenceError,
-  Prediction,  // I', the network's prediction, tone-mapped RGB (BP)
-  SliceB,      // the slice B the last round chose, -1 for none (BP)
-  SliceC,      // the slice C the last round chose, -1 for none (BP)
-  // The film's first-hit features and buffers (methods/film.h), for methods that filter:
-  Albedo,    // mean albedo at the first non-specular hit, linear RGB
-  Normal,    // mean shading normal there, shown as 0.5 + 0.5 n
-  Depth,     // mean distance to it over the image's mean
-  Emission,  // directly seen emission, linear RGB
-  RawError,  // estimated relative squared error of the unfiltered pixel mean
+// ---- Map kinds ------------------------------------------------------------------------
+// A map's kind is its metadata, defined once beside the code that makes it: its names, its
+// place among the viewer's overlays, how compare's report shows it and whether the viewer draws
+// it as sub-pixel slices. A method lists the kinds it publishes in its descriptor
+// (methods/method.h); the overlays, --aov-dir, the report and the shaders read them there.
+
+// How compare's report shows a map: one row of pictures, one per method that has it.
+enum class ReportScale : uint8_t {
+  Shared,         // Sequential, one colour bar from 0 to the largest value of all methods
+  OwnPercentile,  // Sequential, each method's own colour bar from 0 to its 99th percentile
+  Categories,     // Categorical, the method's category labels
 };
+struct MapReport {
+  int order;            // the rows' order
+  const char* stem;     // images/<method>_<stem>.png
+  const char* jsonKey;  // results.json: methods[].images.<jsonKey>
+  const char* rowName;  // report.md
+  const char* title;    // the legend's title; nullptr: the map's label
+  const char* heading;  // report.html
+  const char* note;     // report.html, under the heading
+  ReportScale scale;
+};
+
+// A map of one slice index per pixel that the viewer draws inside the zoomed-in pixels over
+// the "selected" overlay: the first role filled blue, the second orange.
+enum class SliceRole : uint8_t { None, First, Second };
+
+struct MapKind {
+  const char* name;        // --overlay NAME, the --aov-dir file stem, the stats' key
+  const char* alias;       // another name --overlay accepts, or nullptr
+  const char* panelLabel;  // the viewer's overlay list
+  int key;  // overlay order, 1...: keys 1-9 are the viewer's number keys; 0: files only
+  const MapReport* report = nullptr;  // how compare's report shows it; nullptr: not shown
+  SliceRole slices = SliceRole::None;
+};
+
+// Which map: its kind, or none (the viewer's "no overlay"). A MapKind converts to its id.
+class MapId {
+ public:
+  constexpr MapId() = default;
+  constexpr MapId(const MapKind& kind) : kind_(&kind) {}  // NOLINT: an id of its kind
+  constexpr const MapKind* kind() const { return kind_; }
+  constexpr bool none() const { return kind_ == nullptr; }
+  const char* name() const { return kind_ ? kind_->name : "none"; }
+  friend constexpr bool operator==(MapId a, MapId b) { return a.kind_ == b.kind_; }
+
+ private:
+  const MapKind* kind_ = nullptr;
+};
+
+// The maps of the framework every method shares (the film's are in
+// methods/film_reconstruction.h, the reference error in present/overlays.h, a method's own in
+// its folder).
+namespace maps {
+inline constexpr MapReport kErrorEstimateReport{
+    2,
+    "estimate",
+    "error_estimate",
+    "error estimate",
+    nullptr,
+    "Error estimates",
+    "Each method's own per-pixel error estimate; colour bar 0 to its 99th percentile.",
+    ReportScale::OwnPercentile};
+inline constexpr MapReport kFilterScaleReport{3,
+                                              "filter",
+                                              "filter_scale",
+                                              "filter scale",
+                                              "filter",
+                                              "Filter scale",
+                                              "Reconstruction filter chosen per pixel.",
+                                              ReportScale::Categories};
+inline constexpr MapReport kSampleCountReport{1,
+                                              "density",
+                                              "density",
+                                              "kept spp",
+                                              "kept spp",
+                                              "Kept samples per pixel",
+                                              "Shared colour bar across methods.",
+                                              ReportScale::Shared};
+// The error estimate or score that drives sampling: BP's bias, a baseline's own score.
+inline constexpr MapKind ErrorEstimate{"bias", nullptr, "Bias (error estimate)", 1,
+                                       &kErrorEstimateReport};
+// 1 where the last round added samples, else 0.
+inline constexpr MapKind Selected{"selected", "slices", "Selected pixels and slices", 2};
+// The reconstruction filter chosen per pixel (BP's alpha, GEM's sigma, the film's window).
+inline constexpr MapKind FilterScale{"alpha", "filter-scale", "Filter scale (alpha)", 3,
+                                     &kFilterScaleReport};
+inline constexpr MapKind SampleCount{"samples", nullptr, "Kept samples", 4, &kSampleCountReport};
+inline constexpr MapKind TracedCount{"traced", nullptr, "Traced samples", 5};
+// Every map above, in the order of their keys.
+inline constexpr const MapKind* kShared[] = {&ErrorEstimate, &Selected, &FilterScale, &SampleCount,
+                                             &TracedCount};
+}  // namespace maps
 
 // How a map's values become colours.
 enum class ColorMapKind : uint8_t {
@@ -73,30 +144,13 @@ struct MapLegend {
 };
 
 struct SnapshotMap {
-  MapId id = MapId::None;
+  MapId id;
   std::string label;          // what the values are: the legend's title ("bias", a score's name)
   std::vector<float> values;  // per pixel, rows top first; Rgb: three per pixel
   MapLegend legend;
+  int slicesPerSide = 0;  // a map of slice indices (its kind has a SliceRole): S of S x S
   size_t channels() const { return legend.kind == ColorMapKind::Rgb ? 3 : 1; }
 };
-
-// ---- The map table --------------------------------------------------------------------
-
-struct MapInfo {
-  MapId id;
-  const char* name;        // --overlay NAME and the --aov-dir file stem
-  const char* alias;       // another name --overlay accepts, or nullptr
-  const char* panelLabel;  // the viewer's overlay list
-  int key;  // overlay order, 1...: keys 1-9 are the viewer's number keys; 0: files only
-};
-
-// Every map but None: the overlays first, in the order of their keys, then the others.
-std::span<const MapInfo> mapTable();
-// The row of `id`; nullptr for None (or an id without a row, which a test rules out).
-const MapInfo* findMapInfo(MapId id);
-const char* mapName(MapId id);  // "none" for None
-// A map by its name or alias; "none" gives None.
-std::optional<MapId> mapByName(std::string_view name);
 
 // ---- Snapshots ------------------------------------------------------------------------
 
@@ -114,6 +168,13 @@ enum class SnapshotSource : uint8_t {
   Preview,  // the viewer's block preview after a restart (no maps)
 };
 
+// A figure of the method's own, by name: a number, or a text when `text` is not empty.
+struct SnapshotStat {
+  std::string key;
+  double value = 0;
+  std::string text;
+};
+
 struct Snapshot {
   int round = 0;  // rounds completed; 1 after the coarse pass
   bool final = false;
@@ -125,21 +186,27 @@ struct Snapshot {
 
   // The method's debug maps, in the order it publishes them (a map it lacks is absent).
   std::vector<SnapshotMap> maps;
-  int slicesPerSide = 0;  // slices per pixel side of the SliceB and SliceC maps; 0: none
 
   uint64_t keptSamples = 0, tracedSamples = 0, rays = 0;
   uint64_t nonFiniteSamples = 0;  // NaN or infinite samples dropped
   uint64_t rejectedSamples = 0;   // traced but removed as outliers
   PhaseTimes times;
-  uint64_t trainingFlops = 0;        // multiply-add flops spent in network training
-  double trainingKernelSeconds = 0;  // time inside the training kernel alone
-  double seconds = 0;                // wall time since the method started
+  double seconds = 0;  // wall time since the method started
+  // The method's own figures for `render --stats` (e.g. BP's "coarse_spp", "training_gflops"),
+  // in the order it adds them.
+  std::vector<SnapshotStat> stats;
 
   // The map `id`, or nullptr when the snapshot has none.
   const SnapshotMap* map(MapId id) const;
   // Appends a map (replacing one of the same id). Throws std::invalid_argument when the
-  // values are not one per pixel (Rgb: three), or the id is None or has no row in mapTable().
+  // values are not one per pixel (Rgb: three), or the id is none.
   SnapshotMap& addMap(MapId id, std::string label, std::vector<float> values, MapLegend legend);
+  // The figure `key` (nullptr when the method has none).
+  const SnapshotStat* stat(std::string_view key) const;
+  void addStat(std::string key, double value) { stats.push_back({std::move(key), value, {}}); }
+  void addStat(std::string key, std::string text) {
+    stats.push_back({std::move(key), 0, std::move(text)});
+  }
 };
 
 // The map `id` of a list of maps, or nullptr.

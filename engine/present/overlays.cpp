@@ -35,27 +35,28 @@ vec3 displayTransform(vec3 linear, const DisplaySettings& settings) {
           displayChannel(linear.z, settings, scale)};
 }
 
-std::span<const MapInfo> overlayList() {
-  const std::span<const MapInfo> all = mapTable();
-  size_t n = 0;
-  while (n < all.size() && all[n].key > 0) ++n;  // the overlays come first
-  return all.first(n);
+std::vector<const MapKind*> overlayList(const MethodRegistry& methods) {
+  std::vector<const MapKind*> list;
+  for (const MapKind* kind : methods.maps())
+    if (kind->key > 0) list.push_back(kind);
+  list.push_back(&maps::ReferenceError);
+  std::stable_sort(list.begin(), list.end(),
+                   [](const MapKind* a, const MapKind* b) { return a->key < b->key; });
+  return list;
 }
 
-std::optional<MapId> overlayByName(std::string_view name) {
-  if (name == "none") return MapId::None;
-  for (const MapInfo& o : overlayList())
-    if (name == o.name || (o.alias && name == o.alias)) return o.id;
+std::optional<MapId> overlayByName(std::string_view name, const MethodRegistry& methods) {
+  if (name == "none") return MapId();
+  for (const MapKind* o : overlayList(methods))
+    if (name == o->name || (o->alias && name == o->alias)) return MapId(*o);
   return std::nullopt;
 }
 
-const char* overlayName(MapId overlay) { return mapName(overlay); }
-
-std::string overlayNames() {
+std::string overlayNames(const MethodRegistry& methods) {
   std::string names = "none";
-  for (const MapInfo& o : overlayList()) {
-    names += std::string(", ") + o.name;
-    if (o.alias) names += std::string(" (or ") + o.alias + ")";
+  for (const MapKind* o : overlayList(methods)) {
+    names += std::string(", ") + o->name;
+    if (o->alias) names += std::string(" (or ") + o->alias + ")";
   }
   return names;
 }
@@ -93,9 +94,9 @@ OverlayImage buildOverlay(const Snapshot& snapshot, MapId overlay, const Image& 
                           const Image* reference) {
   OverlayImage out;
   out.overlay = overlay;
-  if (overlay == MapId::None) return out;
+  if (overlay.none()) return out;
   const int w = snapshot.width, h = snapshot.height;
-  if (overlay == MapId::ReferenceError) {
+  if (overlay == maps::ReferenceError) {
     if (!referenceError(shown, reference, w, h, out)) return out;
   } else if (const SnapshotMap* m = snapshot.map(overlay)) {
     out.label = m->label;
@@ -103,7 +104,7 @@ OverlayImage buildOverlay(const Snapshot& snapshot, MapId overlay, const Image& 
     out.legend = m->legend;
   } else {
     out.unavailable =
-        "the " + snapshot.method + " method has no " + std::string(mapName(overlay)) + " map";
+        "the " + snapshot.method + " method has no " + std::string(overlay.name()) + " map";
     return out;
   }
   out.colors = mapColors(out.values, w, h, out.legend);

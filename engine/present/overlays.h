@@ -5,6 +5,7 @@
 // formulas; composeFrame is their reference.
 #pragma once
 
+#include "methods/factory.h"
 #include "methods/snapshot.h"
 #include "present/debug_maps.h"
 
@@ -34,20 +35,25 @@ vec3 displayTransform(vec3 linear, const DisplaySettings& settings);
 float filmicCurve(float x);
 
 // ---- Overlays ------------------------------------------------------------------------
-// An overlay is one of the snapshot's maps (MapId, methods/snapshot.h), or MapId::None; the
+// An overlay is one of the snapshot's maps (MapId, methods/snapshot.h), or none; the
 // reference error is the one map computed here, from the shown image and a reference.
 
-// The maps the viewer offers as overlays (the rows of mapTable() with a key), in the order
-// of the number keys 1, 2, ...
-std::span<const MapInfo> overlayList();
-// An overlay by its name or alias ("slices", "filter-scale"); "none" gives MapId::None.
-std::optional<MapId> overlayByName(std::string_view name);
-const char* overlayName(MapId overlay);  // "none" for None
+namespace maps {
+// The relative squared error of the shown image against a reference.
+inline constexpr MapKind ReferenceError{"reference_error", nullptr, "Error vs reference", 7};
+}  // namespace maps
+
+// The maps the viewer offers as overlays (the methods' maps with a key, and the reference
+// error), in the order of the number keys 1, 2, ...
+std::vector<const MapKind*> overlayList(const MethodRegistry& methods = builtinMethods());
+// An overlay by its name or alias ("slices", "filter-scale"); "none" gives the empty id.
+std::optional<MapId> overlayByName(std::string_view name,
+                                   const MethodRegistry& methods = builtinMethods());
 // The names --overlay accepts, for messages: "none, bias, selected (or slices), ...".
-std::string overlayNames();
+std::string overlayNames(const MethodRegistry& methods = builtinMethods());
 
 struct OverlayImage {
-  MapId overlay = MapId::None;
+  MapId overlay;
   std::string label;  // the map's label: the legend's title
   Image colors;       // per pixel, linear RGB; empty when unavailable
   MapLegend legend;   // what the colours mean

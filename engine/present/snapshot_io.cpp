@@ -48,7 +48,7 @@ std::vector<std::string> writeSnapshotMaps(const std::string& dir, const Snapsho
   if (!snap.raw.empty()) rgbLayer("raw", &snap.raw.pixels[0].x, 3);
   if (!snap.reconstructed.empty()) rgbLayer("reconstructed", &snap.reconstructed.pixels[0].x, 3);
   for (const SnapshotMap& m : snap.maps) {
-    const std::string name = mapName(m.id);
+    const std::string name = m.id.name();
     writeDebugMap(dir, name, m.values, snap.width, snap.height, m.label, m.legend);
     written.push_back(name + ".exr");
     written.push_back(name + ".png");

@@ -150,13 +150,13 @@ expect_ok "render bp" "$penumbra" render "$cornell" --method bp --preset paper -
 for f in bias.exr bias.png network_error.png prediction.png selected.png slice_b.png slice_c.png samples.png traced.png alpha.png raw.exr reconstructed.exr; do
   [ -s "$work/aov/$f" ] || { echo "FAIL: --aov-dir lacks $f"; failures=$((failures + 1)); }
 done
-for key in kept_spp traced_spp rounds phases train select reconstruct trace bias_histogram alpha_histogram per_round training_gflops; do
+for key in kept_spp traced_spp rounds phases train select reconstruct trace error_estimate_histogram filter_scale_histogram per_round training_gflops difficult_pixels coarse_spp; do
   grep -q "\"$key\"" "$work/bp.json" || { echo "FAIL: bp stats lack $key"; failures=$((failures + 1)); }
 done
 grep -q '"kept_spp": 8.0' "$work/bp.json" && passes=$((passes + 1)) || { echo "FAIL: bp kept spp is not 8"; failures=$((failures + 1)); }
 "$penumbra" render "$cornell" --method bp --preset paper --size 24x24 --spp 8 -o "$work/bp2.pfm" --threads 2 -q
 cmp -s "$work/bp.pfm" "$work/bp2.pfm" && passes=$((passes + 1)) || { echo "FAIL: thread count changed the bp image"; failures=$((failures + 1)); }
-expect_ok "bp ablations" "$penumbra" render "$cornell" --method bp --size 16x16 --spp 8 -o "$work/bpa.exr" -q --inputs 5 --targets pixel-mean --prediction-draws 1 --candidate-mode predicted --no-warping --no-outlier-removal --no-second-pass --plain-mean --no-top-up --no-reconstruct --learning-rate proportional
+expect_ok "bp ablations" "$penumbra" render "$cornell" --method bp --preset paper --size 16x16 --spp 8 -o "$work/bpa.exr" -q --inputs 5 --targets pixel-mean --prediction-draws 1 --candidate-mode predicted --no-warping --no-outlier-removal --no-second-pass --plain-mean --no-top-up --no-reconstruct --learning-rate proportional
 expect_ok "bp tuned preset" "$penumbra" render "$cornell" --method bp --preset tuned --size 16x16 --spp 8 -o "$work/bpt.exr" --stats "$work/bpt.json" -q
 grep -q '"preset": "tuned"' "$work/bpt.json" && grep -q '"traced_spp": 8.0' "$work/bpt.json" && passes=$((passes + 1)) || { echo "FAIL: tuned preset stats"; failures=$((failures + 1)); }
 "$penumbra" render "$cornell" --method bp --preset tuned --sigma-c 0.2 --size 16x16 --spp 8 -o "$work/bpt2.exr" --stats "$work/bpt2.json" -q
@@ -166,7 +166,10 @@ expect_fail "bp phi count" "--phi" "$penumbra" render "$cornell" --method bp -o 
 expect_fail "bp inputs" "--inputs" "$penumbra" render "$cornell" --method bp -o "$work/x.png" --inputs 6
 expect_fail "raw out needs a filter" "--raw-out needs a method that filters" "$penumbra" render "$cornell" -o "$work/x.png" --raw-out "$work/rawx.exr"
 expect_fail "variance out needs a variance" "--variance-out needs a method that keeps" "$penumbra" render "$cornell" --method bp --preset tuned -o "$work/x.png" --variance-out "$work/varx.exr"
-expect_fail "noise threshold needs an estimate" "--noise-threshold: bp's paper and tuned" "$penumbra" render "$cornell" --method bp --preset paper --size 16x16 -o "$work/x.png" --noise-threshold 0.01
+# A flag the chosen algorithm does not read is an error naming the algorithm and who reads it.
+expect_fail "paper flag on the consistent preset" "--no-warping: bp's consistent algorithm does not read it; it is read by bp's paper algorithm (--preset paper or tuned)" "$penumbra" render "$cornell" --method bp --size 16x16 -o "$work/x.png" --no-warping
+expect_fail "bp flag on ld" "--nit: ld does not read it" "$penumbra" render "$cornell" --size 16x16 -o "$work/x.png" --nit 5
+expect_fail "noise threshold needs an estimate" "--noise-threshold: bp's paper algorithm (--preset paper or tuned) has no error estimate" "$penumbra" render "$cornell" --method bp --preset paper --size 16x16 -o "$work/x.png" --noise-threshold 0.01
 # Every baseline stops on the noise threshold, with its variance written.
 for m in gem fdiv cycles; do
   expect_ok "noise threshold $m" "$penumbra" render "$cornell" --method $m --size 16x16 --noise-threshold 0.05 -o "$work/nt_$m.exr" --variance-out "$work/nt_${m}_var.exr" --stats "$work/nt_$m.json" -q
@@ -206,7 +209,7 @@ assert j["kept_spp"] == 8, j["kept_spp"]
 assert j["width"] == 16 and j["height"] == 16
 if m == "gem":
     h = j["filter_scale_histogram"]
-    assert len(h["counts"]) == len(h["scales"]) and sum(h["counts"]) == 16 * 16, h
+    assert len(h["counts"]) == len(h["labels"]) and sum(h["counts"]) == 16 * 16, h
 ' $m "$work/$m.json"
   for f in "$work/$m.exr" "$work/${m}_raw.exr" "$work/aov_$m/bias.png"; do
     [ -s "$f" ] || { echo "FAIL: render --method $m did not write $f"; failures=$((failures + 1)); }

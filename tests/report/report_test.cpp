@@ -112,9 +112,9 @@ CompareReport smallReport() {
   std::vector<float> filterScale(n, 0.0f);
   for (size_t i = 0; i < n; i += 3) filterScale[i] = 1.0f;
   bp.maps = {
-      {MapId::SampleCount, "kept spp", density, MapLegend::sequential(0, 32, "samples")},
-      {MapId::ErrorEstimate, "bias", std::vector<float>(n, 0.01f), MapLegend::sequential(0, 1)},
-      {MapId::FilterScale, "filter alpha", filterScale, MapLegend::categorical({"α=0.1", "α=0.5"})},
+      {maps::SampleCount, "kept spp", density, MapLegend::sequential(0, 32, "samples")},
+      {maps::ErrorEstimate, "bias", std::vector<float>(n, 0.01f), MapLegend::sequential(0, 1)},
+      {maps::FilterScale, "filter alpha", filterScale, MapLegend::categorical({"α=0.1", "α=0.5"})},
   };
   r.methods = {ld, bp};
   return r;
@@ -402,7 +402,7 @@ TEST(ReportWrite, SizeMismatchThrowsAndWritesNothing) {
   EXPECT_THROW(writeReport(dir.string(), r), std::invalid_argument);
   r = smallReport();
   r.methods[0].maps = {
-      {MapId::SampleCount, "kept spp", std::vector<float>(10, 1.0f), MapLegend::sequential(0, 1)}};
+      {maps::SampleCount, "kept spp", std::vector<float>(10, 1.0f), MapLegend::sequential(0, 1)}};
   EXPECT_THROW(writeReport(dir.string(), r), std::invalid_argument);
   r = smallReport();
   r.crops = {{"A", 10, 10, 8, 8}};  // reaches past the 16x16 image

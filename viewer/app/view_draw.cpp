@@ -58,7 +58,7 @@ void ViewerApp::refreshOverlay() {
   overlayImage_ = OverlayImage{};
   overlayImage_.overlay = options_.overlay;
   legendStrip_ = Image();
-  if (!snapshot_ || options_.overlay == MapId::None) return;
+  if (!snapshot_ || options_.overlay.none()) return;
   const Image& shown = shownImage();
   overlayImage_ = buildOverlay(*snapshot_, options_.overlay, shown, options_.reference.get());
   if (overlayImage_.available())
@@ -96,8 +96,12 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   view.display = options_.display;
   view.overlay = overlayImage_.available();
   view.blend = options_.blend;
-  view.slicesPerSide = snapshot_ ? snapshot_->slicesPerSide : 0;
-  view.slices = options_.overlay == MapId::Selected && view_.zoom >= 8.0f && view.slicesPerSide > 0;
+  // The slices the method's maps of slice indices say (their kinds' SliceRole).
+  view.slicesPerSide = 0;
+  if (snapshot_)
+    for (const SnapshotMap& map : snapshot_->maps)
+      if (map.id.kind()->slices != SliceRole::None) view.slicesPerSide = map.slicesPerSide;
+  view.slices = options_.overlay == maps::Selected && view_.zoom >= 8.0f && view.slicesPerSide > 0;
   view.inspectedX = view_.inspectX;
   view.inspectedY = view_.inspectY;
   if (view_.region.active()) {

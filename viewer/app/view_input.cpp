@@ -45,15 +45,15 @@ void ViewerApp::zoomAt(float factor, double x, double y) {
 void ViewerApp::keyEvent(int key, bool down, int mods) {
   if (key >= 0 && key < 512) input_.held[key] = down;
   if (!down) return;
-  const auto list = overlayList();
+  const auto list = overlayList(*options_.methods);
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9 && key < GLFW_KEY_1 + int(list.size())) {
-    setOverlay(list[size_t(key - GLFW_KEY_1)].id);
+    setOverlay(*list[size_t(key - GLFW_KEY_1)]);
     return;
   }
   switch (key) {
     case GLFW_KEY_0:
     case GLFW_KEY_GRAVE_ACCENT:
-      setOverlay(MapId::None);
+      setOverlay(MapId());
       break;
     case GLFW_KEY_R:
       options_.showRaw = !options_.showRaw;

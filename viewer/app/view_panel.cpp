@@ -19,23 +19,32 @@ ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
   return ImGui::ColorConvertFloat4ToU32(ImVec4(srgb.x, srgb.y, srgb.z, alpha));
 }
 
-// One widget for a parameter of the method's table; true when it changed.
-bool paramWidget(const MethodParam& p, MethodConfig& config) {
+// One widget for a parameter of a table; true when it changed.
+template <typename Config>
+bool paramWidget(const Param<Config>& p, Config& config) {
   const char* label = p.label.c_str();
   const ImGuiSliderFlags scale = p.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
+  const auto accept = [&](double v) {
+    p.set(config, std::clamp(v, p.min, p.max));
+    return true;
+  };
   switch (p.kind) {
     case ParamKind::Int: {
+      if (p.field) {
+        double v = p.get(config);
+        return ImGui::InputDouble(label, &v, 1, 100, "%.0f") && accept(std::round(v));
+      }
       int v = int(p.get(config));
-      if (!ImGui::SliderInt(label, &v, int(p.uiMin), int(p.uiMax))) return false;
-      p.set(config, std::clamp(double(v), p.min, p.max));
-      return true;
+      return ImGui::SliderInt(label, &v, int(p.uiMin), int(p.uiMax)) && accept(v);
     }
     case ParamKind::Float: {
+      if (p.field) {
+        double v = p.get(config);
+        return ImGui::InputDouble(label, &v, 0, 0, "%.4g") && accept(v);
+      }
       float v = float(p.get(config));
-      if (!ImGui::SliderFloat(label, &v, float(p.uiMin), float(p.uiMax), "%.3f", scale))
-        return false;
-      p.set(config, std::clamp(double(v), p.min, p.max));
-      return true;
+      return ImGui::SliderFloat(label, &v, float(p.uiMin), float(p.uiMax), "%.3f", scale) &&
+             accept(v);
     }
     case ParamKind::Flag: {
       bool v = p.get(config) != 0;
@@ -67,61 +76,67 @@ bool paramWidget(const MethodParam& p, MethodConfig& config) {
   return false;
 }
 
-// The method, the run's shape and every parameter of the method's table, grouped as the
-// table groups them; true when something changed.
-bool methodParameters(ViewOptions& o) {
+// The method by name, and its presets: a preset switches to its algorithm and resets that
+// method's configuration to the preset. True when something changed.
+bool methodChoice(ViewOptions& o) {
   bool changed = false;
-  if (ImGui::BeginCombo("method", toString(o.method))) {
-    for (const std::string& name : methodNames()) {
-      const MethodKind kind = *parseMethodKind(name);
-      const std::string label = name + " - " + describe(kind);
-      if (ImGui::Selectable(label.c_str(), kind == o.method)) {
-        o.method = kind;
+  if (ImGui::BeginCombo("method", o.method->name().c_str())) {
+    for (const std::string& name : o.methods->names()) {
+      const MethodDescriptor* first = o.methods->find(name);
+      const std::string label = name + " - " + first->description();
+      if (ImGui::Selectable(label.c_str(), name == o.method->name())) {
+        o.method = first;
         changed = true;
       }
     }
     ImGui::EndCombo();
   }
-  changed |= ImGui::InputInt("target spp (0: open)", &o.shape.maxSpp);
-  o.shape.maxSpp = std::max(0, o.shape.maxSpp);
-  changed |= ImGui::SliderInt("spp per round", &o.shape.roundSpp, 1, 16);
-  int seed = int(o.shape.seed);
-  if (ImGui::InputInt("seed", &seed)) {
-    o.shape.seed = uint64_t(std::max(0, seed));
-    changed = true;
-  }
-  // Stopping rules (ld and bp's consistent preset): 0 = none.
-  double timeLimit = o.shape.timeLimit;
-  if (ImGui::InputDouble("time limit s", &timeLimit, 0, 0, "%.1f")) {
-    o.shape.timeLimit = std::max(0.0, timeLimit);
-    changed = true;
-  }
-  float noise = o.shape.noiseThreshold;
-  if (ImGui::InputFloat("noise threshold", &noise, 0, 0, "%.4g")) {
-    o.shape.noiseThreshold = std::max(0.0f, noise);
-    changed = true;
-  }
-  MethodConfig& config = o.configs[size_t(o.method)];
-  if (BpConfig* bp = std::get_if<BpConfig>(&config)) {
-    for (BpPreset preset : {BpPreset::Consistent, BpPreset::Paper, BpPreset::Tuned}) {
-      if (preset != BpPreset::Consistent) ImGui::SameLine();
-      const std::string label = std::string(toString(preset)) + " preset";
-      if (ImGui::Button(label.c_str())) {
-        applyBpPreset(*bp, preset);
-        changed = true;
-      }
+  bool first = true;
+  for (const auto& [method, preset] : o.methods->presetsOf(o.method->name())) {
+    if (!first) ImGui::SameLine();
+    first = false;
+    const std::string label = preset->name + " preset";
+    if (ImGui::Button(label.c_str())) {
+      o.method = method;
+      o.config() = method->defaults();
+      preset->apply(o.config());
+      changed = true;
     }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", preset->help.c_str());
   }
-  const std::vector<MethodParam>& params = methodParams(o.method);
-  for (size_t i = 0; i < params.size();) {
-    const std::string& group = params[i].group;
-    size_t end = i;
-    while (end < params.size() && params[end].group == group) ++end;
-    if (ImGui::TreeNode(group.c_str())) {
-      for (size_t k = i; k < end; ++k) changed |= paramWidget(params[k], config);
-      ImGui::TreePop();
-    }
-    i = end;
+  return changed;
+}
+
+}  // namespace
+
+std::vector<const Param<RunShape>*> runWidgets() {
+  std::vector<const Param<RunShape>*> out;
+  for (const Param<RunShape>& p : runShapeParams().params())
+    if (p.scope & kViewCommand) out.push_back(&p);
+  return out;
+}
+
+std::vector<ParamSection> methodSections(const ViewOptions& options) {
+  std::vector<ParamSection> sections;
+  for (const MethodParam& p : options.method->params()) {
+    if (sections.empty() || sections.back().title != p.group) sections.push_back({p.group, {}});
+    sections.back().params.push_back(&p);
+  }
+  return sections;
+}
+
+namespace {
+
+// The method, the run's shape and every parameter of the method's table, grouped as the
+// table groups them; true when something changed.
+bool methodParameters(ViewOptions& o) {
+  bool changed = methodChoice(o);
+  for (const Param<RunShape>* p : runWidgets()) changed |= paramWidget(*p, o.shape);
+  MethodConfig& config = o.config();
+  for (const ParamSection& section : methodSections(o)) {
+    if (!ImGui::TreeNode(section.title.c_str())) continue;
+    for (const MethodParam* p : section.params) changed |= paramWidget(*p, config);
+    ImGui::TreePop();
   }
   return changed;
 }
@@ -257,15 +272,15 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
     if (ImGui::Checkbox("raw estimate (no reconstruction)", &o.showRaw))
       actions.shownImageChanged();
     int current = 0;
-    const auto list = overlayList();
+    const auto list = overlayList(*o.methods);
     for (size_t i = 0; i < list.size(); ++i)
-      if (list[i].id == o.overlay) current = int(i) + 1;
+      if (MapId(*list[i]) == o.overlay) current = int(i) + 1;
     std::string items = std::string("none") + '\0';
-    for (const MapInfo& info : list) items += std::string(info.panelLabel) + '\0';
+    for (const MapKind* kind : list) items += std::string(kind->panelLabel) + '\0';
     if (ImGui::Combo("overlay", &current, items.c_str()))
-      actions.setOverlay(current == 0 ? MapId::None : list[size_t(current - 1)].id);
+      actions.setOverlay(current == 0 ? MapId() : MapId(*list[size_t(current - 1)]));
     ImGui::SliderFloat("blend", &o.blend, 0.0f, 1.0f, "%.2f");
-    if (o.overlay != MapId::None && !state.overlay.available())
+    if (!o.overlay.none() && !state.overlay.available())
       ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", state.overlay.unavailable.c_str());
     ImGui::Text("zoom %.2fx", v.zoom);
     float ix, iy;
@@ -322,7 +337,7 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
         "ctrl+left drag: render region, ctrl+click: clear it\n"
         "space pause/resume, N one round, P screenshot\n"
         "ctrl+S save image, Esc quit",
-        std::min<size_t>(9, overlayList().size()));
+        std::min<size_t>(9, overlayList(*o.methods).size()));
   }
   if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());
   ImGui::End();

@@ -40,6 +40,16 @@ struct PanelActions {
   std::function<void(RenderRegion)> setRegion;        // an empty region renders everything
 };
 
+// The panel's controls of the run and the method, as the tables describe them: the run shape's
+// settings the viewer takes (runShapeParams() entries with kViewCommand), and the chosen
+// method's parameters by group, each group a tree node of the Method section.
+struct ParamSection {
+  std::string title;
+  std::vector<const MethodParam*> params;
+};
+std::vector<const Param<RunShape>*> runWidgets();
+std::vector<ParamSection> methodSections(const ViewOptions& options);
+
 void drawPanel(const PanelState& state, const PanelActions& actions);
 // Only while a pixel is inspected (view.inspectX >= 0).
 void drawInspector(const PanelState& state, const PanelActions& actions);

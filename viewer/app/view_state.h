@@ -9,6 +9,7 @@
 #include "scene/camera.h"
 #include "trace/integrator.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -36,12 +37,14 @@ struct ViewOptions {
   std::function<Scene(const std::string& path)> loadScene;
   std::string scenePath;
   RenderRegion region;  // the render region to start with (--region)
-  MethodKind method = MethodKind::Bp;
-  // Every method's configuration, in MethodKind's order: what the panel edits, kept when
-  // the panel switches to another method and back.
-  std::vector<MethodConfig> configs = defaultConfigs();
-  // Open-ended: the seed, the kept samples per pixel a round adds, and the target spp at
-  // which rendering stops (maxSpp; 0 = refine until stopped).
+  // The methods the panel offers, the chosen one, and every method's configuration in the
+  // registry's order: what the panel edits, kept when the panel switches to another method and
+  // back.
+  const MethodRegistry* methods = &builtinMethods();
+  const MethodDescriptor* method = builtinMethods().find("bp");
+  std::vector<MethodConfig> configs = defaultConfigs(builtinMethods());
+  // Open-ended: the seed, the kept samples per pixel a round adds, the target spp at which
+  // rendering stops (0 = refine until stopped), the sampler and the stopping rules.
   RunShape shape = RunShape::progressive(1);
   int threads = 0;          // render threads (0 = all cores)
   bool preview = true;      // a block preview before each (re)start (the window; not headless)
@@ -49,16 +52,25 @@ struct ViewOptions {
   bool background = false;  // render at a lower priority than the UI thread (the window)
   std::shared_ptr<const Image> reference;
   std::string referencePath;
-  MapId overlay = MapId::None;  // the map shown over the image
+  MapId overlay;  // the map shown over the image (none: no overlay)
   float blend = 0.7f;
   DisplaySettings display;
   bool showRaw = false;  // the raw estimate instead of the reconstruction
   std::string saveDirectory = ".";
 
-  MethodSpec spec() const { return {shape, configs[size_t(method)]}; }
-  // The filter scales BP's maps are labelled with.
-  const std::vector<float>& alphas() const {
-    return std::get<BpConfig>(configs[size_t(MethodKind::Bp)]).filter.alphas;
+  // The chosen method's configuration.
+  MethodConfig& config() { return configs.at(methodIndex()); }
+  const MethodConfig& config() const { return configs.at(methodIndex()); }
+  MethodSpec spec() const { return {shape, config()}; }
+  size_t methodIndex() const {
+    const auto& list = methods->methods();
+    return size_t(std::find(list.begin(), list.end(), method) - list.begin());
+  }
+  // Every method's defaults, in the registry's order.
+  static std::vector<MethodConfig> defaultConfigs(const MethodRegistry& registry) {
+    std::vector<MethodConfig> out;
+    for (const MethodDescriptor* m : registry.methods()) out.push_back(m->defaults());
+    return out;
   }
 };
 

@@ -1,6 +1,7 @@
 // The BP method's slot allocation, slice order and candidate choice.
 #include "methods/bp/candidates.h"
 
+#include "methods/bp/paper.h"
 #include "methods/bp/state.h"
 #include "methods/bp/trainer.h"
 
@@ -63,9 +64,9 @@ std::vector<uint32_t> allocateSlots(std::span<const uint32_t> order, size_t pixe
   return slots;
 }
 
-uint64_t samplePixel(BpState& state, uint32_t p, uint32_t slotCount, const SliceChoice& choice,
-                     PixelSampler& sampler, PathCounters& counters, uint64_t& nonFinite) {
-  const BpConfig& config = state.config;
+uint64_t samplePixel(BpState& state, const BpPaperConfig& config, uint32_t p, uint32_t slotCount,
+                     const SliceChoice& choice, PixelSampler& sampler, PathCounters& counters,
+                     uint64_t& nonFinite) {
   const PreparedScene& prepared = state.prepared;
   const int px = int(p % state.width), py = int(p / state.width);
   PixelState& pixel = state.pixel(p);

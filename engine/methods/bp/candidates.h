@@ -13,6 +13,10 @@
 #include <span>
 #include <vector>
 
+namespace penumbra {
+struct BpPaperConfig;
+}
+
 namespace penumbra::bp {
 
 struct BpState;
@@ -27,7 +31,8 @@ std::vector<uint32_t> allocateSlots(std::span<const uint32_t> order, size_t pixe
 // Adds `slotCount` samples to pixel p in the slices `choice` names; returns the budget they
 // used (kept samples plus slots lost to non-finite values; outlier rejections use none).
 // Non-finite samples are counted in `nonFinite`. For one pixel, called by one thread.
-uint64_t samplePixel(BpState& state, uint32_t p, uint32_t slotCount, const SliceChoice& choice,
-                     PixelSampler& sampler, PathCounters& counters, uint64_t& nonFinite);
+uint64_t samplePixel(BpState& state, const BpPaperConfig& config, uint32_t p, uint32_t slotCount,
+                     const SliceChoice& choice, PixelSampler& sampler, PathCounters& counters,
+                     uint64_t& nonFinite);
 
 }  // namespace penumbra::bp

@@ -1,5 +1,5 @@
-// BP's consistent algorithm (BpAlgorithm::Consistent, the `consistent` preset and the default
-// of `--method bp`; RECONSTRUCTION.md):
+// BP's consistent algorithm (the `consistent` preset and the default of `--method bp`;
+// RECONSTRUCTION.md):
 //  - every traced sample goes into the film (methods/film.h): mean, variance, half buffers,
 //    first-hit features and directly seen emission;
 //  - the image is the film's consistent reconstruction (methods/recon/denoise.h), whose chosen
@@ -20,6 +20,7 @@
 #include "methods/bp/error_estimate.h"
 #include "methods/bp/state.h"
 #include "methods/bp/trainer.h"
+#include "methods/factory.h"
 #include "methods/film_reconstruction.h"
 
 #include <tbb/blocked_range.h>
@@ -36,7 +37,8 @@ namespace {
 
 using namespace method;
 
-constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;  // as the paper algorithm's networks
+// The slices' histogram levels m, which this algorithm does not read (the paper's default).
+constexpr int kHistogramLevels = 5;
 // The reconstruction that steers allocation is redone once the samples grew this much.
 constexpr double kReconstructionGrowth = 1.5;
 // The absolute term ranks a pixel by its (2r + 1)^2 neighbourhood's mean MSE, not its own: a
@@ -44,15 +46,13 @@ constexpr double kReconstructionGrowth = 1.5;
 // depends little on its own samples (the neighbourhood's bright edge still draws samples).
 constexpr int kAbsoluteRadius = 3;
 
-struct TracedSample {
-  CameraSample camera;
-  vec3 radiance;
-};
-
 class ConsistentMethod final : public ProgressiveMethod {
  public:
-  ConsistentMethod(const PreparedScene& prepared, const RunShape& shape, const BpConfig& config)
-      : s_((validateOrThrow(shape, config), prepared), shape, config),
+  ConsistentMethod(const PreparedScene& prepared, const RunShape& shape,
+                   const BpConsistentConfig& config)
+      : ProgressiveMethod(shape),
+        config_(config),
+        s_(prepared, shape, config, config.effectiveCoarseSpp(shape), kHistogramLevels),
         film_(s_.width, s_.height),
         trainedAt_(s_.pixelCount, 0),
         drawn_(s_.pixelCount, 0),
@@ -76,11 +76,6 @@ class ConsistentMethod final : public ProgressiveMethod {
     ++s_.rounds;
   }
 
-  bool done() const override {
-    if (s_.rounds == 0) return false;
-    return s_.schedule.finished(s_.spent) || s_.stalled ||
-           stoppedByRule(s_.shape, secondsSince(s_.start));
-  }
   int roundsDone() const override { return s_.rounds; }
   Image rawVarianceOfMean() const override { return film_.varianceOfMeanImage(); }
   double estimatedError() const override {
@@ -97,12 +92,13 @@ class ConsistentMethod final : public ProgressiveMethod {
                                      const std::atomic<bool>* cancel) override;
   PixelInspection inspect(int x, int y) const override;
 
- private:
-  static void validateOrThrow(const RunShape& shape, const BpConfig& config) {
-    const std::string problem = config.validate(shape);
-    if (!problem.empty()) throw std::invalid_argument(problem);
+ protected:
+  bool budgetSpent() const override {
+    return s_.rounds > 0 && (s_.schedule.finished(s_.spent) || s_.stalled);
   }
-  bool usesNetworks() const { return s_.config.networkWeight > 0; }
+
+ private:
+  bool usesNetworks() const { return config_.usesNetworks(); }
   void coarsePass(const std::atomic<bool>* cancel);
   void adaptiveRound(const std::atomic<bool>* cancel);
   // Traces `count` more samples of pixel p into the film (and, once the tone map is known,
@@ -128,7 +124,7 @@ class ConsistentMethod final : public ProgressiveMethod {
            float(now);
   }
   float networkFactor(size_t p) const {
-    return usesNetworks() ? 1.0f + s_.config.networkWeight * s_.pixel(p).bias : 1.0f;
+    return usesNetworks() ? 1.0f + config_.networkWeight * s_.pixel(p).bias : 1.0f;
   }
 
   // With slice steering: how `count` more samples of pixel p split over its slices
@@ -137,6 +133,7 @@ class ConsistentMethod final : public ProgressiveMethod {
   // Sample j of slice k of pixel (px, py), started in chunk's sampler.
   CameraSample sliceSample(int px, int py, int k, uint32_t j, TraceChunk& chunk) const;
 
+  const BpConsistentConfig config_;
   BpState s_;
   Film film_;
   std::vector<uint32_t> sliceDrawn_;          // with slice steering: samples drawn in each slice
@@ -344,7 +341,7 @@ void ConsistentMethod::trainDue(const std::atomic<bool>* cancel) {
   std::vector<uint32_t> due;
   for (uint32_t p = 0; p < s_.pixelCount; ++p) {
     const uint32_t kept = s_.pixel(p).kept;
-    if (kept > 0 && (trainedAt_[p] == 0 || double(kept) >= s_.config.retrainGrowth * trainedAt_[p]))
+    if (kept > 0 && (trainedAt_[p] == 0 || double(kept) >= config_.retrainGrowth * trainedAt_[p]))
       due.push_back(p);
   }
   if (!due.empty() && trainNetworksOf(s_, due, cancel)) {
@@ -360,7 +357,7 @@ void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
       double(s_.spent) < kReconstructionGrowth * double(spentAtReconstruction_))
     return;
   const auto start = Clock::now();
-  recon::DenoiseResult r = reconstructFilm(film_, s_.config.denoise, cancel);
+  recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
   if (cancel && cancel->load()) return;
   errorAtReconstruction_ = relativeError(r, film_);
   for (size_t p = 0; p < s_.pixelCount; ++p) countAtReconstruction_[p] = film_[p].count;
@@ -396,7 +393,7 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // The absolute term: + absoluteWeight x (the mean raw MSE around p) / (the image's mean
   // value)^2. The window makes a pixel's share depend on its region, not on whether its own
   // few samples met a rare bright path.
-  const float w = s_.config.absoluteWeight;
+  const float w = config_.absoluteWeight;
   float absoluteScale = 0;
   if (w > 0) {
     double sum = 0;  // in pixel order: the same bits whatever the thread count
@@ -443,7 +440,7 @@ void rankFirst(std::vector<uint32_t>& order, size_t k, Before before) {
 // Only those few pixels are ranked (by error, then index: a strict order, so the result is
 // the same whatever the sort); a full sort of the image each round cost more than the rest.
 void settleToBudget(std::vector<uint32_t>& slots, const std::vector<float>& error, uint64_t budget,
-                    bool skipConverged) {
+                    const std::vector<uint8_t>& converged) {
   uint64_t total = 0;
   for (uint32_t v : slots) total += v;
   if (total == budget) return;
@@ -453,7 +450,7 @@ void settleToBudget(std::vector<uint32_t>& slots, const std::vector<float>& erro
   std::vector<uint32_t> order;
   if (total < budget) {
     for (uint32_t p = 0; p < slots.size(); ++p)
-      if (!(skipConverged && error[p] <= 0)) order.push_back(p);
+      if (converged.empty() || !converged[p]) order.push_back(p);
     if (order.empty()) return;
     const size_t k = std::min<size_t>(order.size(), budget - total);
     rankFirst(order, k, higher);
@@ -485,17 +482,19 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   const uint64_t budget = s_.schedule.growingRoundBudget(s_.spent, s_.adaptiveRounds);
   std::vector<uint32_t> counts(pixelCount);
   for (size_t p = 0; p < pixelCount; ++p) counts[p] = film_[p].count;
-  ErrorAllocation allocation = s_.config.allocation;
   std::vector<float> error = allocationError();
+  // The threshold is on the filtered image: its converged pixels get nothing, as do those whose
+  // error is already nil.
+  std::vector<uint8_t> converged;
   if (s_.shape.noiseThreshold > 0 && reconstructedAtRound_ >= 0) {
-    // The threshold is on the filtered image: its converged pixels get nothing.
+    converged.resize(pixelCount);
     for (size_t p = 0; p < pixelCount; ++p)
-      if (currentError(p) < s_.shape.noiseThreshold) error[p] = 0;
-    allocation.noiseThreshold = 1e-30f;
+      converged[p] =
+          s_.shape.converged(currentError(p)) || (std::isfinite(error[p]) && error[p] < 1e-30f);
   }
-  std::vector<uint32_t> slots =
-      allocateByError(error, counts, budget, allocation, s_.shape.seed, s_.adaptiveRounds);
-  settleToBudget(slots, error, budget, allocation.noiseThreshold > 0);
+  std::vector<uint32_t> slots = allocateByError(error, counts, budget, config_.allocation,
+                                                s_.shape.seed, s_.adaptiveRounds, converged);
+  settleToBudget(slots, error, budget, converged);
   std::vector<uint32_t> chosen;
   for (uint32_t p = 0; p < pixelCount; ++p) {
     s_.selected[p] = slots[p] > 0;
@@ -563,20 +562,20 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
   if (reconstructImage && s_.config.reconstruct && s_.rounds > 0) {
     if (reconstructedAtRound_ != s_.rounds) {
       const auto start = Clock::now();
-      recon::DenoiseResult r = reconstructFilm(film_, s_.config.denoise, cancel);
+      recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
       s_.times.reconstruct += secondsSince(start);
       lastReconstruction_ = std::move(r);
       reconstructedAtRound_ = s_.rounds;
     }
     const recon::DenoiseResult& r = *lastReconstruction_;
     snap->reconstructed = r.output;
-    addReconstructionMaps(*snap, r, s_.config.denoise, relativeError(r, film_));
+    addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
   }
   if (s_.rounds > 0) {
     // What ranks the pixels: the raw relMSE estimate scaled by the network's bias.
     std::vector<float> e = allocationError();
     const float top = std::max(1e-6f, percentileOf(e, 0.99f));
-    snap->addMap(MapId::ErrorEstimate, "allocation error (raw relMSE x (1 + w bias))", std::move(e),
+    snap->addMap(maps::ErrorEstimate, "allocation error (raw relMSE x (1 + w bias))", std::move(e),
                  MapLegend::sequential(0.0f, top));
   }
   addFilmMaps(*snap, film_);
@@ -590,14 +589,14 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
     traced[p] = px.traced;
   }
   if (usesNetworks()) {
-    snap->addMap(MapId::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
+    snap->addMap(maps::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
     const float erTop = std::max(1e-3f, finiteMax(er));
-    snap->addMap(MapId::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
+    snap->addMap(maps::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
   }
   addSelectedMap(*snap, s_.selected);
   addSampleCountMaps(*snap, kept, traced);
   for (uint32_t c : kept) snap->keptSamples += c;
-  s_.reportCounts(*snap);
+  s_.reportCounts(*snap, seconds());
   return snap;
 }
 
@@ -618,13 +617,13 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
   const float e = errorAtReconstruction_[p];
   std::snprintf(line, sizeof line, "filtered relMSE %.3g (estimated at %u samples)", e,
                 countAtReconstruction_[p]);
-  in.addValue("filtered relMSE", {e}, line, MapId::ErrorEstimate);
+  in.addValue("filtered relMSE", {e}, line, maps::ErrorEstimate);
   if (lastReconstruction_) {
     const int scale = lastReconstruction_->scale[p];
-    const int radius = scale == 0 ? 0 : s_.config.denoise.radii[size_t(scale - 1)];
+    const int radius = scale == 0 ? 0 : config_.denoise.radii[size_t(scale - 1)];
     std::snprintf(line, sizeof line, "filter window %s%d",
                   scale == 0 ? "identity, r=" : "r=", radius);
-    in.addValue("filter window", {float(scale), float(radius)}, line, MapId::FilterScale);
+    in.addValue("filter window", {float(scale), float(radius)}, line, maps::FilterScale);
   }
   if (usesNetworks()) {
     std::snprintf(line, sizeof line, "network bias %.3f: error x %.2f; er %.3f", px.bias,
@@ -632,7 +631,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
     in.addValue("bias", {px.bias, networkFactor(p)}, line);
     const vec3 net = px.prediction;
     std::snprintf(line, sizeof line, "net  I'  %.3f %.3f %.3f", net.x, net.y, net.z);
-    in.addValue("I'", {net.x, net.y, net.z}, line, MapId::Prediction);
+    in.addValue("I'", {net.x, net.y, net.z}, line, maps::Prediction);
   }
   char reason[200];
   if (s_.rounds == 1)
@@ -650,10 +649,15 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
 
 }  // namespace
 
-std::unique_ptr<ProgressiveMethod> makeConsistentMethod(const PreparedScene& prepared,
-                                                        const RunShape& shape,
-                                                        const BpConfig& config) {
-  return std::make_unique<ConsistentMethod>(prepared, shape, config);
+}  // namespace penumbra::bp
+
+namespace penumbra {
+
+std::unique_ptr<ProgressiveMethod> makeBpConsistentMethod(const PreparedScene& prepared,
+                                                          const RunShape& shape,
+                                                          const BpConsistentConfig& config) {
+  requireValid({shape, MethodConfig(bpConsistentMethod(), config)});
+  return std::make_unique<bp::ConsistentMethod>(prepared, shape, config);
 }
 
-}  // namespace penumbra::bp
+}  // namespace penumbra

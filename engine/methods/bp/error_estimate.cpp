@@ -2,6 +2,7 @@
 #include "methods/bp/error_estimate.h"
 
 #include "core/rng.h"
+#include "methods/bp/paper.h"
 #include "methods/bp/state.h"
 #include "methods/bp/trainer.h"
 
@@ -51,7 +52,7 @@ void predictionPoints(int count, uint64_t pixelKey, float* uvt) {
 
 void estimateErrors(BpState& state, const std::vector<uint32_t>& pixels,
                     const std::atomic<bool>* cancel) {
-  const BpConfig& config = state.config;
+  const BpCommonConfig& config = state.config;
   const int ni = config.network.inputs;
   const int K = config.predictionDraws;
   tbb::parallel_for(
@@ -86,8 +87,7 @@ void estimateErrors(BpState& state, const std::vector<uint32_t>& pixels,
 // e, so their I' can still be far from the mean (a dark, constant background keeps a bias
 // above 1) and bias no longer measures their error, while er (the energy the network
 // cannot explain) still does. [A6]
-std::vector<uint32_t> rankPixels(const BpState& state) {
-  const BpConfig& config = state.config;
+std::vector<uint32_t> rankPixels(const BpState& state, const BpPaperConfig& config) {
   std::vector<uint32_t> hard, open, converged;
   for (uint32_t p = 0; p < state.pixelCount; ++p) {
     const PixelState& s = state.pixel(p);

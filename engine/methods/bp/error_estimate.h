@@ -10,6 +10,10 @@
 #include <cstdint>
 #include <vector>
 
+namespace penumbra {
+struct BpPaperConfig;
+}
+
 namespace penumbra::bp {
 
 struct BpState;
@@ -29,6 +33,7 @@ void estimateErrors(BpState& state, const std::vector<uint32_t>& pixels,
 // Pixels in the order they get samples: the difficult ones (bias > Psi and er > e) by
 // descending bias; then, with top-up, the other unconverged ones (er > e) by descending
 // bias, and last the converged ones (er <= e) by descending er. Ties by pixel index.
-std::vector<uint32_t> rankPixels(const BpState& state);
+// (The paper algorithm's.)
+std::vector<uint32_t> rankPixels(const BpState& state, const BpPaperConfig& config);
 
 }  // namespace penumbra::bp

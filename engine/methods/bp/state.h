@@ -1,5 +1,6 @@
-// The BP method's state, which its phases (pixel_store, trainer, error_estimate, candidates)
-// read and write and method.cpp drives round by round. Internal to methods/bp.
+// The state BP's two algorithms share, which the phases (pixel_store, trainer, error_estimate,
+// candidates) read and write and paper.cpp and consistent.cpp drive round by round; the maps
+// both publish. Internal to methods/bp.
 #pragma once
 
 #include "core/clock.h"
@@ -16,14 +17,39 @@
 #include <cstdint>
 #include <vector>
 
+namespace penumbra {
+
+// BP's own maps, in the namespace of every map kind.
+namespace maps {
+// The network's error er per pixel (the paper's converged test).
+inline constexpr MapKind NetworkError{"network_error", nullptr, "Network error er", 6};
+// I', the network's prediction, tone-mapped RGB.
+inline constexpr MapKind Prediction{"prediction", nullptr, "Network prediction I'", 0};
+// The slices B and C the last round chose per pixel (-1: none), drawn inside the pixels.
+inline constexpr MapKind SliceB{"slice_b", nullptr, "Slice B", 0, nullptr, SliceRole::First};
+inline constexpr MapKind SliceC{"slice_c", nullptr, "Slice C", 0, nullptr, SliceRole::Second};
+}  // namespace maps
+}  // namespace penumbra
+
 namespace penumbra::bp {
 
+// Keeps the networks' initial weights apart from the method's other random streams.
+constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;
+
+// One traced camera sample of the coarse pass, kept until the tone map is known.
+struct TracedSample {
+  CameraSample camera;
+  vec3 radiance;
+};
+
 struct BpState {
-  BpState(const PreparedScene& scene, const RunShape& runShape, const BpConfig& bpConfig);
+  // `coarseSpp`: the algorithm's N0; `histogramLevels`: the slices' histogram levels m.
+  BpState(const PreparedScene& scene, const RunShape& runShape, const BpCommonConfig& bpConfig,
+          int coarseSpp, int histogramLevels);
 
   const PreparedScene& prepared;
   const RunShape shape;
-  const BpConfig config;
+  const BpCommonConfig config;
   const int width, height;
   const size_t pixelCount;
   const int slicesPerPixel;
@@ -47,22 +73,13 @@ struct BpState {
   double trainingSeconds = 0;
   method::Counters counters;
   PhaseTimes times;
-  Clock::time_point start;
 
   const PixelState& pixel(size_t p) const { return store.pixels[p]; }
   PixelState& pixel(size_t p) { return store.pixels[p]; }
-  // The counts and times every BP snapshot reports (traced samples, rays, dropped samples,
-  // phase times, training work, wall time).
-  void reportCounts(Snapshot& snap) const {
-    snap.tracedSamples = traced;
-    snap.rays = counters.rays;
-    snap.nonFiniteSamples = counters.nonFinite;
-    snap.rejectedSamples = counters.rejected;
-    snap.times = times;
-    snap.trainingFlops = trainingFlops;
-    snap.trainingKernelSeconds = trainingSeconds;
-    snap.seconds = secondsSince(start);
-  }
+  // The counts, times and figures every BP snapshot reports (traced samples, rays, dropped
+  // samples, phase times, the coarse pass, the training kernel's speed); `seconds`: the
+  // method's wall time.
+  void reportCounts(Snapshot& snap, double seconds) const;
   bool cancelled(const std::atomic<bool>* cancel) const {
     return cancel && cancel->load(std::memory_order_relaxed);
   }

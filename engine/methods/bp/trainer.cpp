@@ -28,7 +28,7 @@ void networkInputs(int inputs, float dx, float dy, float u, float v, float t, fl
 
 bool trainNetworksOf(BpState& state, const std::vector<uint32_t>& pixels,
                      const std::atomic<bool>* cancel) {
-  const BpConfig& config = state.config;
+  const BpCommonConfig& config = state.config;
   const int ni = config.network.inputs;
   TrainingBatch batch;
   batch.offsets.resize(pixels.size() + 1);

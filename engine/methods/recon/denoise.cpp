@@ -278,7 +278,40 @@ std::vector<float> boxMean(std::span<const float> values, int width, int height,
   return out;
 }
 
+const ParamTable<DenoiseConfig>& denoiseParams() {
+  static const ParamTable<DenoiseConfig> table = [] {
+    ParamTable<DenoiseConfig> t;
+    t.group("Reconstruction (NL-means, features, SURE)")
+        .real(
+            "nl-k", "colour k", "NL-means colour strength k (RECONSTRUCTION.md section 2)",
+            [](auto& c) -> auto& { return c.k; }, 1e-3, 100, {0.05, 2}, true)
+        .integer("nl-patch", "patch radius",
+                 "NL-means patch radius: colour distances are averaged over (2r + 1)^2 pixels",
+                 [](auto& c) -> auto& { return c.patchRadius; }, 0, 8, {0, 4})
+        .integer("sure-smooth", "SURE smoothing",
+                 "Box radius over which each scale's SURE map is smoothed before the choice",
+                 [](auto& c) -> auto& { return c.sureSmoothRadius; }, 0, 16, {0, 6})
+        .real(
+            "feature-k", "feature k_f", "Feature weight strength k_f (section 3)",
+            [](auto& c) -> auto& { return c.kFeature; }, 1e-3, 100, {0.05, 4}, true)
+        .toggle(
+            "features", "feature weights", "Colour weights only: no albedo, normal, depth terms",
+            "--no-features", [](auto& c) -> auto& { return c.useFeatures; })
+        .toggle(
+            "demodulate", "albedo demodulation", "Filter radiance, not radiance over albedo",
+            "--no-demodulate", [](auto& c) -> auto& { return c.demodulate; })
+        .toggle(
+            "cross-filter", "cross-filtering",
+            "Weights from the pixel's own mean instead of the other half buffer",
+            "--no-cross-filter", [](auto& c) -> auto& { return c.crossFilter; });
+    return t;
+  }();
+  return table;
+}
+
 std::string validate(const DenoiseConfig& config) {
+  if (std::string problem = checkParams(denoiseParams().params(), config); !problem.empty())
+    return problem;
   if (config.radii.size() > kMaxScales)
     return "radii: at most " + std::to_string(kMaxScales) + " scales, got " +
            std::to_string(config.radii.size());
@@ -290,14 +323,9 @@ std::string validate(const DenoiseConfig& config) {
     if (i > 0 && r <= config.radii[i - 1]) return "radii: must be strictly ascending";
   }
   auto positive = [](float v) { return v > 0.0f && std::isfinite(v); };
-  if (!positive(config.k)) return "k: must be a finite value > 0";
   if (!(config.noiseCancel >= 0.0f) || !std::isfinite(config.noiseCancel))
     return "noiseCancel: must be a finite value >= 0";
-  if (config.patchRadius < 0 || config.patchRadius > 8) return "patchRadius: must be in [0, 8]";
-  if (!positive(config.kFeature)) return "kFeature: must be a finite value > 0";
   if (!positive(config.tau)) return "tau: must be a finite value > 0";
-  if (config.sureSmoothRadius < 0 || config.sureSmoothRadius > 16)
-    return "sureSmoothRadius: must be in [0, 16]";
   if (!positive(config.albedoEpsilon)) return "albedoEpsilon: must be a finite value > 0";
   if (config.denseRadius < 1) return "denseRadius: must be >= 1";
   // A radius just above denseRadius needs offsets of its sparse ring that are kept.

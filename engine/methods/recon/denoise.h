@@ -25,6 +25,8 @@
 // in units where one surface's pixel-to-pixel steps are small next to sqrt(tau).
 #pragma once
 
+#include "methods/params.h"
+
 #include "core/image.h"
 
 #include <atomic>
@@ -117,7 +119,12 @@ struct DenoiseDetail {
 std::vector<float> boxMean(std::span<const float> values, int width, int height, int radius,
                            std::span<const float> valid = {});
 
-// Empty when the configuration is valid, else a message that names the bad field.
+// The filter's parameters, shared by every method that has a `denoise` member (the same
+// names, so one flag sets them all): its flags, panel widgets and ranges.
+const ParamTable<DenoiseConfig>& denoiseParams();
+
+// Empty when the configuration is valid, else a message naming the flag (denoiseParams()'s
+// ranges) or the field that has none (the bank's radii, the internal constants).
 std::string validate(const DenoiseConfig& config);
 
 // Throws std::invalid_argument naming the field when a non-empty span has the wrong size

@@ -3,7 +3,11 @@
 // half flat, half noisy (adaptivity: the samples go where the criterion says).
 #include "methods/allocation.h"
 
+#include "methods/cycles/cycles.h"
 #include "methods/factory.h"
+#include "methods/fdiv/fdiv.h"
+#include "methods/fuzzy/fuzzy.h"
+#include "methods/gem/gem.h"
 #include "present/overlays.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
@@ -91,25 +95,25 @@ TEST(AdaptiveMeasures, CyclesError) {
 }
 
 TEST(AllocationConfig, Validates) {
-  AllocationConfig c;
-  RunShape shape;
-  EXPECT_EQ(c.validate(shape), "");
-  EXPECT_EQ(c.effectiveInitialSpp(shape), 4);
-  EXPECT_EQ(c.effectiveBatch(shape), 16);
-  shape.spp = 2;
-  EXPECT_EQ(c.effectiveInitialSpp(shape), 2);
-  c.rounds = 0;
-  EXPECT_NE(c.validate(shape).find("rounds"), std::string::npos);
+  MethodSpec spec{RunShape{}, fdivMethod().defaults()};
+  AllocationConfig& c = spec.config.as<FDivConfig>();
+  EXPECT_EQ(validate(spec), "");
+  EXPECT_EQ(c.effectiveInitialSpp(spec.shape), 4);
+  EXPECT_EQ(c.effectiveBatch(spec.shape), 16);
+  spec.shape.spp = 2;
+  EXPECT_EQ(c.effectiveInitialSpp(spec.shape), 2);
+  c.rounds = 0;  // the table's range
+  EXPECT_NE(validate(spec).find("--rounds"), std::string::npos);
   c.rounds = 8;
-  c.initialSpp = 3;
-  EXPECT_NE(c.validate(shape).find("initial"), std::string::npos);
+  c.initialSpp = 3;  // the check beyond the table
+  EXPECT_NE(validate(spec).find("--initial-spp"), std::string::npos);
 }
 
 // The values of the snapshot's map `id` (the test fails when it has none).
 const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
   static const std::vector<float> none;
   const SnapshotMap* m = s.map(id);
-  EXPECT_NE(m, nullptr) << "no " << mapName(id) << " map";
+  EXPECT_NE(m, nullptr) << "no " << id.name() << " map";
   return m ? m->values : none;
 }
 
@@ -117,28 +121,28 @@ std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
   return test::runToEnd(method, 100);
 }
 
-MethodSpec specFor(MethodKind kind, int spp, uint64_t seed) {
-  return {RunShape::batch(spp, seed), defaultConfig(kind)};
+using Method = const MethodDescriptor*;
+
+MethodSpec specFor(Method method, int spp, uint64_t seed) {
+  return {RunShape::batch(spp, seed), method->defaults()};
 }
 
 // An open-ended run of roundSpp per round up to maxSpp.
-MethodSpec openEndedSpecFor(MethodKind kind, int roundSpp, int maxSpp, uint64_t seed) {
-  return {RunShape::progressive(roundSpp, seed, maxSpp), defaultConfig(kind)};
+MethodSpec openEndedSpecFor(Method method, int roundSpp, int maxSpp, uint64_t seed) {
+  return {RunShape::progressive(roundSpp, seed, maxSpp), method->defaults()};
 }
 
 // The schedule every baseline's configuration shares.
 AllocationConfig& allocationOf(MethodSpec& spec) {
-  return std::visit(
-      [](auto& c) -> AllocationConfig& {
-        if constexpr (std::is_base_of_v<AllocationConfig, std::decay_t<decltype(c)>>)
-          return c;
-        else
-          throw std::logic_error("not a baseline");
-      },
-      spec.config);
+  MethodConfig& c = spec.config;
+  if (auto* f = c.get<FDivConfig>()) return *f;
+  if (auto* f = c.get<FuzzyConfig>()) return *f;
+  if (auto* g = c.get<GemConfig>()) return *g;
+  if (auto* y = c.get<CyclesConfig>()) return *y;
+  throw std::logic_error("not a baseline");
 }
 
-class Baseline : public ::testing::TestWithParam<MethodKind> {};
+class Baseline : public ::testing::TestWithParam<Method> {};
 
 TEST_P(Baseline, SpendsExactlyTheBudget) {
   auto prepared = test::shippedScene("cornell", 16);
@@ -152,7 +156,7 @@ TEST_P(Baseline, SpendsExactlyTheBudget) {
     EXPECT_EQ(snap->keptSamples + snap->nonFiniteSamples, uint64_t(spp) * pixels);
     EXPECT_EQ(snap->round, 4);  // the initial pass and 3 rounds
     uint64_t perPixel = 0;
-    for (float c : mapOf(*snap, MapId::TracedCount)) perPixel += uint64_t(c);
+    for (float c : mapOf(*snap, maps::TracedCount)) perPixel += uint64_t(c);
     EXPECT_EQ(perPixel, snap->tracedSamples);
   }
 }
@@ -188,7 +192,7 @@ TEST_P(Baseline, ConcentratesSamples) {
   auto prepared = flatAndNoisyHalves(kWidth, kHeight);
   auto method = makeMethod(*prepared, specFor(GetParam(), kSpp, 1));
   const auto snap = runToEnd(*method);
-  const std::vector<float>& tracedMap = mapOf(*snap, MapId::TracedCount);
+  const std::vector<float>& tracedMap = mapOf(*snap, maps::TracedCount);
   ASSERT_EQ(tracedMap.size(), size_t(kWidth * kHeight));
 
   // Samples beyond the initial pass, in each half and in the flat pixels more than 8
@@ -213,8 +217,8 @@ TEST_P(Baseline, ConcentratesSamples) {
       // A flat pixel's samples agree, so its score is 0 and it is never chosen: with
       // FDiv and fuzzy it keeps its initial pass; Cycles dilates the chosen set by one
       // pixel, so only the flat column beside the noisy half may get more.
-      if (GetParam() == MethodKind::FDiv || GetParam() == MethodKind::Fuzzy ||
-          (GetParam() == MethodKind::Cycles && x < kWidth / 2 - 1)) {
+      if (GetParam() == &fdivMethod() || GetParam() == &fuzzyMethod() ||
+          (GetParam() == &cyclesMethod() && x < kWidth / 2 - 1)) {
         unchosenWithMore += traced != uint32_t(kInitialSpp);
       }
     }
@@ -232,13 +236,13 @@ TEST_P(Baseline, ConcentratesSamples) {
   const double farFlatMean = kInitialSpp + farFlatExtra / farFlatPixels;
   EXPECT_GE(noisyMean, 3 * farFlatMean);
 
-  const SnapshotMap* score = snap->map(MapId::ErrorEstimate);
+  const SnapshotMap* score = snap->map(maps::ErrorEstimate);
   ASSERT_NE(score, nullptr);
   ASSERT_EQ(score->values.size(), size_t(kWidth * kHeight));
   EXPECT_GT(*std::max_element(score->values.begin(), score->values.end()), 0.0f);
   // A score has no fixed scale: its colour bar ends at its 99th percentile.
   EXPECT_EQ(score->legend.maxValue, percentileOf(score->values, 0.99f));
-  EXPECT_EQ(snap->method, toString(GetParam()));
+  EXPECT_EQ(snap->method, GetParam()->name());
 }
 
 TEST_P(Baseline, SameImageWhateverTheThreadCount) {
@@ -256,7 +260,7 @@ TEST_P(Baseline, SameImageWhateverTheThreadCount) {
   }
   EXPECT_EQ(one->raw.pixels, many->raw.pixels);
   EXPECT_EQ(one->reconstructed.pixels, many->reconstructed.pixels);
-  EXPECT_EQ(mapOf(*one, MapId::TracedCount), mapOf(*many, MapId::TracedCount));
+  EXPECT_EQ(mapOf(*one, maps::TracedCount), mapOf(*many, maps::TracedCount));
   // Another seed gives another image.
   auto other = makeMethod(*prepared, specFor(GetParam(), 12, 8));
   EXPECT_NE(runToEnd(*other)->raw.pixels, one->raw.pixels);
@@ -275,11 +279,11 @@ TEST_P(Baseline, OpenEndedRoundsAndInspection) {
   EXPECT_EQ(snap->tracedSamples, 10u * 256);
   const PixelInspection in = method->inspect(8, 8);
   ASSERT_TRUE(in.valid);
-  EXPECT_EQ(in.method, toString(GetParam()));
-  EXPECT_EQ(float(in.traced), mapOf(*snap, MapId::TracedCount)[8 * 16 + 8]);
+  EXPECT_EQ(in.method, GetParam()->name());
+  EXPECT_EQ(float(in.traced), mapOf(*snap, maps::TracedCount)[8 * 16 + 8]);
   // The score is the method's own value, labelled as that score.
-  ASSERT_NE(in.value(MapId::ErrorEstimate), nullptr);
-  EXPECT_EQ(in.value(MapId::ErrorEstimate)->label, snap->map(MapId::ErrorEstimate)->label);
+  ASSERT_NE(in.value(maps::ErrorEstimate), nullptr);
+  EXPECT_EQ(in.value(maps::ErrorEstimate)->label, snap->map(maps::ErrorEstimate)->label);
   EXPECT_FALSE(in.subpixel.has_value());  // the baselines store no samples
   EXPECT_FALSE(in.reason.empty());
   EXPECT_GE(in.rank, 0);
@@ -297,10 +301,10 @@ TEST_P(Baseline, StopsOnTheNoiseThreshold) {
   int skipped = 0;
   for (int rounds = 0; !method->done() && rounds < 2000; ++rounds) {
     const std::vector<float> error = baseline.shownRelativeError();
-    const std::vector<float> before = mapOf(*method->snapshot(false), MapId::TracedCount);
+    const std::vector<float> before = mapOf(*method->snapshot(false), maps::TracedCount);
     method->runRound(nullptr);
     if (rounds == 0) continue;  // the first pass samples every pixel
-    const std::vector<float> after = mapOf(*method->snapshot(false), MapId::TracedCount);
+    const std::vector<float> after = mapOf(*method->snapshot(false), maps::TracedCount);
     for (size_t p = 0; p < 256; ++p)
       if (error[p] < spec.shape.noiseThreshold) {
         EXPECT_EQ(after[p], before[p]) << "pixel " << p << " was below the threshold";
@@ -313,7 +317,7 @@ TEST_P(Baseline, StopsOnTheNoiseThreshold) {
   const auto snap = method->snapshot(false);
   EXPECT_LT(snap->tracedSamples, 4096u * 256) << "stopped by the threshold, not the cap";
   // Not uniform: the pixels that converged first got fewer samples.
-  const std::vector<float>& traced = mapOf(*snap, MapId::TracedCount);
+  const std::vector<float>& traced = mapOf(*snap, maps::TracedCount);
   EXPECT_LT(*std::min_element(traced.begin(), traced.end()),
             *std::max_element(traced.begin(), traced.end()));
   // The variance of the mean, for --variance-out.
@@ -326,18 +330,19 @@ TEST_P(Baseline, ViewerOverlaysHaveTheirMaps) {
   auto prepared = test::shippedScene("cornell", 16);
   auto method = makeMethod(*prepared, specFor(GetParam(), 8, 1));
   const auto snap = runToEnd(*method);
-  for (MapId o : {MapId::ErrorEstimate, MapId::Selected, MapId::SampleCount, MapId::TracedCount}) {
+  for (MapId o : {MapId(maps::ErrorEstimate), MapId(maps::Selected), MapId(maps::SampleCount),
+                  MapId(maps::TracedCount)}) {
     const OverlayImage image = buildOverlay(*snap, o, snap->reconstructed, nullptr);
-    EXPECT_TRUE(image.available()) << mapName(o) << ": " << image.unavailable;
+    EXPECT_TRUE(image.available()) << o.name() << ": " << image.unavailable;
   }
-  const OverlayImage bias = buildOverlay(*snap, MapId::ErrorEstimate, snap->reconstructed, nullptr);
+  const OverlayImage bias = buildOverlay(*snap, maps::ErrorEstimate, snap->reconstructed, nullptr);
   // Labelled as the criterion's own score, not as BP's bias.
-  EXPECT_EQ(bias.label, snap->map(MapId::ErrorEstimate)->label);
+  EXPECT_EQ(bias.label, snap->map(maps::ErrorEstimate)->label);
   EXPECT_NE(bias.label, "bias");
   EXPECT_GT(bias.legend.maxValue, 0.0f);
   // The filter scale: GEM has its own, labelled by sigma; the box-mean criteria none.
-  const OverlayImage scale = buildOverlay(*snap, MapId::FilterScale, snap->reconstructed, nullptr);
-  if (GetParam() == MethodKind::Gem) {
+  const OverlayImage scale = buildOverlay(*snap, maps::FilterScale, snap->reconstructed, nullptr);
+  if (GetParam() == &gemMethod()) {
     ASSERT_TRUE(scale.available());
     ASSERT_EQ(scale.legend.categories.size(), 9u);
     EXPECT_EQ(scale.legend.categories[1], "s=0.71");
@@ -347,30 +352,9 @@ TEST_P(Baseline, ViewerOverlaysHaveTheirMaps) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, Baseline,
-                         ::testing::Values(MethodKind::FDiv, MethodKind::Fuzzy, MethodKind::Gem,
-                                           MethodKind::Cycles),
-                         [](const auto& info) { return std::string(toString(info.param)); });
-
-TEST(Methods, NamesRoundTrip) {
-  for (const std::string& name : methodNames()) {
-    const auto kind = parseMethodKind(name);
-    ASSERT_TRUE(kind) << name;
-    EXPECT_EQ(toString(*kind), name);
-    EXPECT_STRNE(describe(*kind), "?");
-  }
-  EXPECT_FALSE(parseMethodKind("nope"));
-  EXPECT_NE(std::string(describe(MethodKind::Fuzzy)).find("re-implemented"), std::string::npos);
-}
-
-TEST(Methods, RejectBadSpecs) {
-  auto prepared = test::shippedScene("cornell", 8);
-  MethodSpec s = specFor(MethodKind::Gem, 16, 0);
-  s.get<GemConfig>()->gamma = 0.9f;
-  EXPECT_NE(validate(s).find("gamma"), std::string::npos);
-  EXPECT_THROW(makeMethod(*prepared, s), std::invalid_argument);
-  s = specFor(MethodKind::FDiv, 0, 0);
-  EXPECT_THROW(makeMethod(*prepared, s), std::invalid_argument);
-}
+                         ::testing::Values(&fdivMethod(), &fuzzyMethod(), &gemMethod(),
+                                           &cyclesMethod()),
+                         [](const auto& info) { return info.param->name(); });
 
 }  // namespace
 }  // namespace penumbra

@@ -1,6 +1,8 @@
 // Allocation by estimated error: the water-filling split of a round's budget.
 #include "methods/error_allocation.h"
 
+#include "methods/run_shape.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -42,18 +44,24 @@ TEST(ErrorAllocation, TheFloorKeepsEveryPixelSampled) {
   EXPECT_GT(count[0], 2 * mean);
 }
 
+// The pixels a noise threshold marks converged (RunShape::converged) get nothing.
 TEST(ErrorAllocation, PixelsBelowTheNoiseThresholdGetNothing) {
   std::vector<float> error{1e-5f, 1e-1f, 1e-5f, 1e-2f};
   const std::vector<uint32_t> count(4, 16);
-  ErrorAllocation config;
-  config.noiseThreshold = 1e-3f;
-  const auto dn = allocateByError(error, count, 100, config, 3, 0);
+  const auto convergedBelow = [&](float threshold) {
+    RunShape shape;
+    shape.noiseThreshold = threshold;
+    std::vector<uint8_t> converged;
+    for (float e : error) converged.push_back(shape.converged(e));
+    return converged;
+  };
+  const auto dn = allocateByError(error, count, 100, {}, 3, 0, convergedBelow(1e-3f));
   EXPECT_EQ(dn[0], 0u);
   EXPECT_EQ(dn[2], 0u);
   EXPECT_GT(dn[1], dn[3]);
   EXPECT_NEAR(double(dn[1] + dn[3]), 100.0, 2.0);
-  config.noiseThreshold = 1.0f;  // everything converged
-  EXPECT_EQ(sum(allocateByError(error, count, 100, config, 3, 0)), 0u);
+  // Everything converged.
+  EXPECT_EQ(sum(allocateByError(error, count, 100, {}, 3, 0, convergedBelow(1.0f))), 0u);
 }
 
 TEST(ErrorAllocation, IsDeterministicAndHandlesNonFiniteErrors) {

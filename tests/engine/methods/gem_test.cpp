@@ -1,5 +1,5 @@
 // GEM's filterbank and greedy scale choice on hand-made images.
-#include "methods/gem.h"
+#include "methods/gem/gem.h"
 
 #include <gtest/gtest.h>
 

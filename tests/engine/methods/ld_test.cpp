@@ -1,6 +1,6 @@
 // The low-discrepancy method in rounds: the image does not depend on the split into rounds, and
 // renderImage is the method run to the end.
-#include "methods/ld.h"
+#include "methods/ld/ld.h"
 
 #include "methods/render.h"
 #include "tests/test_paths.h"

@@ -2,7 +2,7 @@
 // a viewer needs (pause, step, resume, cancel, restart), without the caller ever waiting.
 #include "methods/session.h"
 
-#include "methods/bp/method.h"
+#include "methods/bp/paper.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
 
@@ -19,12 +19,10 @@ std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("co
 RenderSession::MethodFactory bpFactory(std::shared_ptr<PreparedScene> scene, int spp,
                                        bool openEnded = false) {
   return [scene, spp, openEnded] {
-    RunShape shape = RunShape::batch(spp);
-    shape.openEnded = openEnded;
-    shape.roundSpp = 2;
-    BpConfig config;
+    RunShape shape = openEnded ? RunShape::progressive(2) : RunShape::batch(spp);
+    BpPaperConfig config;
     config.network.epochs = 10;
-    return makeBpMethod(*scene, shape, config);
+    return makeBpPaperMethod(*scene, shape, config);
   };
 }
 
@@ -103,9 +101,9 @@ TEST(Session, AFailingMethodReportsItsError) {
   RenderSession session(1);
   auto scene = cornell(8);
   session.start([scene] {
-    BpConfig config;
+    BpPaperConfig config;
     config.slicesPerSide = 9;
-    return makeBpMethod(*scene, RunShape{}, config);
+    return makeBpPaperMethod(*scene, RunShape{}, config);
   });
   ASSERT_TRUE(session.wait(30));
   EXPECT_EQ(session.state(), RenderSession::State::Failed);

@@ -25,12 +25,11 @@ Snapshot smallSnapshot() {
   s.height = 2;
   s.raw = Image(3, 2, vec3(0.5f));
   s.reconstructed = s.raw;
-  s.addMap(MapId::ErrorEstimate, "bias", kBias, MapLegend::sequential(0.0f, 1.0f));
+  s.addMap(maps::ErrorEstimate, "bias", kBias, MapLegend::sequential(0.0f, 1.0f));
   addSelectedMap(s, {0, 1, 0, 1, 0, 1});
   addSampleCountMaps(s, {4, 8, 12, 16, 4, 4}, {4, 8, 12, 16, 4, 4});
-  s.addMap(MapId::FilterScale, "filter alpha", {0, 1, 2, 3, 4, 0},
+  s.addMap(maps::FilterScale, "filter alpha", {0, 1, 2, 3, 4, 0},
            MapLegend::categorical({"a=0.1", "a=1", "a=3", "a=5", "a=10"}));
-  s.slicesPerSide = 2;
   return s;
 }
 
@@ -67,24 +66,23 @@ TEST(Display, FilmicCurveIsMonotonicWithAShoulder) {
 
 TEST(Overlays, NamesRoundTripAndNumberKeysFollowTheList) {
   ASSERT_GE(overlayList().size(), 6u);
-  EXPECT_EQ(overlayList()[0].id, MapId::ErrorEstimate);
-  for (const MapInfo& o : overlayList()) {
-    ASSERT_TRUE(overlayByName(o.name).has_value()) << o.name;
-    EXPECT_EQ(*overlayByName(o.name), o.id);
-    EXPECT_STREQ(overlayName(o.id), o.name);
-    if (o.alias) {
-      EXPECT_EQ(overlayByName(o.alias), o.id) << o.alias;
+  EXPECT_EQ(overlayList()[0], &maps::ErrorEstimate);
+  for (const MapKind* o : overlayList()) {
+    ASSERT_TRUE(overlayByName(o->name).has_value()) << o->name;
+    EXPECT_EQ(*overlayByName(o->name), MapId(*o));
+    if (o->alias) {
+      EXPECT_EQ(overlayByName(o->alias), MapId(*o)) << o->alias;
     }
   }
-  EXPECT_EQ(overlayByName("none"), MapId::None);
-  EXPECT_EQ(overlayByName("slices"), MapId::Selected);
-  EXPECT_EQ(overlayByName("filter-scale"), MapId::FilterScale);
+  EXPECT_EQ(overlayByName("none"), MapId());
+  EXPECT_EQ(overlayByName("slices"), maps::Selected);
+  EXPECT_EQ(overlayByName("filter-scale"), maps::FilterScale);
   EXPECT_FALSE(overlayByName("sparkle").has_value());
 }
 
 TEST(Overlays, BiasMapUsesViridisOverZeroToOneAndMagentaForNaN) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage o = buildOverlay(s, MapId::ErrorEstimate, s.reconstructed, nullptr);
+  const OverlayImage o = buildOverlay(s, maps::ErrorEstimate, s.reconstructed, nullptr);
   ASSERT_TRUE(o.available()) << o.unavailable;
   EXPECT_EQ(o.label, "bias");
   EXPECT_EQ(o.legend.kind, ColorMapKind::Sequential);
@@ -104,14 +102,14 @@ TEST(Overlays, BiasMapUsesViridisOverZeroToOneAndMagentaForNaN) {
 
 TEST(Overlays, CategoricalMapsUseOneColourPerCategory) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage a = buildOverlay(s, MapId::FilterScale, s.raw, nullptr);
+  const OverlayImage a = buildOverlay(s, maps::FilterScale, s.raw, nullptr);
   ASSERT_TRUE(a.available());
   EXPECT_EQ(a.legend.categories.size(), 5u);
   EXPECT_EQ(a.legend.categories[0], "a=0.1");  // the method's own labels
   EXPECT_EQ(a.colors.pixels[0], categoryColor(0, 5));
   EXPECT_EQ(a.colors.pixels[4], categoryColor(4, 5));
   EXPECT_EQ(a.colors.pixels[5], a.colors.pixels[0]);
-  const OverlayImage sel = buildOverlay(s, MapId::Selected, s.raw, nullptr);
+  const OverlayImage sel = buildOverlay(s, maps::Selected, s.raw, nullptr);
   EXPECT_EQ(sel.colors.pixels[1], categoryColor(1, 2));
   EXPECT_EQ(sel.colors.pixels[0], categoryColor(0, 2));
 }
@@ -119,15 +117,15 @@ TEST(Overlays, CategoricalMapsUseOneColourPerCategory) {
 TEST(Overlays, MissingMapsSayWhy) {
   Snapshot s = smallSnapshot();
   s.method = "ld";
-  std::erase_if(s.maps, [](const SnapshotMap& m) { return m.id == MapId::ErrorEstimate; });
-  const OverlayImage o = buildOverlay(s, MapId::ErrorEstimate, s.raw, nullptr);
+  std::erase_if(s.maps, [](const SnapshotMap& m) { return m.id == maps::ErrorEstimate; });
+  const OverlayImage o = buildOverlay(s, maps::ErrorEstimate, s.raw, nullptr);
   EXPECT_FALSE(o.available());
   EXPECT_NE(o.unavailable.find("ld"), std::string::npos);
-  const OverlayImage r = buildOverlay(s, MapId::ReferenceError, s.raw, nullptr);
+  const OverlayImage r = buildOverlay(s, maps::ReferenceError, s.raw, nullptr);
   EXPECT_FALSE(r.available());
   EXPECT_NE(r.unavailable.find("--reference"), std::string::npos);
   const Image wrongSize(2, 2);
-  const OverlayImage w = buildOverlay(s, MapId::ReferenceError, s.raw, &wrongSize);
+  const OverlayImage w = buildOverlay(s, maps::ReferenceError, s.raw, &wrongSize);
   EXPECT_FALSE(w.available());
   EXPECT_NE(w.unavailable.find("2x2"), std::string::npos);
 }
@@ -136,7 +134,7 @@ TEST(Overlays, ReferenceErrorIsTheRelativeSquaredErrorOfTheShownImage) {
   Snapshot s = smallSnapshot();
   Image reference(3, 2, vec3(0.5f));
   reference.pixels[2] = vec3(1.0f);  // one pixel is off: (0.5-1)^2 / (1 + 0.01)
-  const OverlayImage o = buildOverlay(s, MapId::ReferenceError, s.raw, &reference);
+  const OverlayImage o = buildOverlay(s, maps::ReferenceError, s.raw, &reference);
   ASSERT_TRUE(o.available());
   EXPECT_NEAR(o.values[2], 0.25f / 1.01f, 1e-6f);
   EXPECT_EQ(o.values[0], 0.0f);
@@ -158,7 +156,7 @@ TEST(Compose, BlendsInDisplaySpaceAndZeroBlendLeavesTheImage) {
 
 TEST(Compose, FrameAppliesTheTransformThenTheOverlay) {
   const Snapshot s = smallSnapshot();
-  const OverlayImage o = buildOverlay(s, MapId::SampleCount, s.raw, nullptr);
+  const OverlayImage o = buildOverlay(s, maps::SampleCount, s.raw, nullptr);
   ASSERT_TRUE(o.available());
   DisplaySettings settings;
   settings.exposure = -1.0f;

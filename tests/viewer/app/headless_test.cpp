@@ -10,6 +10,7 @@
 // renders, hence the goldens, are the same on every x86-64 CPU.
 #include "viewer/app/headless.h"
 #include "core/image_io.h"
+#include "methods/bp/state.h"
 #include "methods/render.h"
 #include "present/overlays.h"
 #include "scene/scene_loader.h"
@@ -49,15 +50,19 @@ std::shared_ptr<const Image> reference() {
 }
 
 // The overlays that only the paper's rounds publish (the default preset runs no networks).
-bool paperOnly(MapId overlay) { return overlay == MapId::NetworkError; }
+bool paperOnly(MapId overlay) { return overlay == maps::NetworkError; }
+
+// The viewer on bp with `preset`, as the panel's preset button sets it.
+void usePreset(ViewOptions& o, const char* preset) {
+  o.method = o.methods->find("bp", preset);
+  o.config() = o.methods->configFor("bp", preset);
+}
 
 ViewOptions options(MapId overlay) {
   ViewOptions o;
   o.scene = tire();
-  o.method = MethodKind::Bp;
   // What `penumbra view` runs by default, or the tuned preset for a map only it has.
-  applyBpPreset(std::get<BpConfig>(o.configs[size_t(MethodKind::Bp)]),
-                paperOnly(overlay) ? BpPreset::Tuned : BpPreset::Consistent);
+  usePreset(o, paperOnly(overlay) ? "tuned" : "consistent");
   o.shape.seed = 7;
   o.overlay = overlay;
   o.reference = reference();
@@ -133,7 +138,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
   EXPECT_EQ(frame.snapshot->round, kRounds);
   EXPECT_EQ(frame.width, kSize);
   // Overlays draw their legend under the image.
-  if (*overlay == MapId::None)
+  if (overlay->none())
     EXPECT_EQ(frame.height, kSize);
   else
     EXPECT_GT(frame.height, kSize);
@@ -142,7 +147,7 @@ TEST_P(Screenshot, MatchesTheGolden) {
 
 std::vector<std::string> overlayNames() {
   std::vector<std::string> names = {"none"};
-  for (const MapInfo& o : overlayList()) names.push_back(o.name);
+  for (const MapKind* o : overlayList()) names.push_back(o->name);
   return names;
 }
 
@@ -188,9 +193,9 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
     float exposure;
     ToneCurve curve;
   };
-  for (const Variant v : {Variant{MapId::None, 0.0f, ToneCurve::Srgb},
-                          Variant{MapId::ErrorEstimate, 1.0f, ToneCurve::Filmic},
-                          Variant{MapId::FilterScale, -0.5f, ToneCurve::Srgb}}) {
+  for (const Variant v : {Variant{MapId(), 0.0f, ToneCurve::Srgb},
+                          Variant{maps::ErrorEstimate, 1.0f, ToneCurve::Filmic},
+                          Variant{maps::FilterScale, -0.5f, ToneCurve::Srgb}}) {
     ViewOptions o = options(v.overlay);
     o.display.exposure = v.exposure;
     o.display.curve = v.curve;
@@ -211,7 +216,7 @@ TEST(HeadlessGl, PictureMatchesTheCpuReference) {
           const int ref = int(std::lround(255.0f * cpu.at(x, y)[k]));
           worst = std::max(worst, std::abs(gl - ref));
         }
-    EXPECT_LE(worst, 1) << overlayName(v.overlay) << " exposure " << v.exposure;
+    EXPECT_LE(worst, 1) << v.overlay.name() << " exposure " << v.exposure;
   }
 }
 
@@ -226,7 +231,7 @@ TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
     request.centerX = request.centerY = kSize / 2.0f;
     // Slices are the paper's rounds' (the tuned preset's); the default preset has none.
     ViewOptions o = options(overlay);
-    applyBpPreset(std::get<BpConfig>(o.configs[size_t(MethodKind::Bp)]), BpPreset::Tuned);
+    usePreset(o, "tuned");
     const HeadlessFrame frame = renderHeadless(o, request);
     int detailed = 0;
     for (int by = 0; by < 8; ++by)
@@ -242,8 +247,8 @@ TEST(HeadlessGl, SlicesAreDrawnWhenZoomedIn) {
       }
     return detailed;
   };
-  EXPECT_EQ(blocksWithDetail(MapId::None), 0);
-  EXPECT_EQ(blocksWithDetail(MapId::Selected), 64);
+  EXPECT_EQ(blocksWithDetail(MapId()), 0);
+  EXPECT_EQ(blocksWithDetail(maps::Selected), 64);
 }
 
 TEST(HeadlessGl, TheRenderRegionIsOutlined) {
@@ -253,7 +258,7 @@ TEST(HeadlessGl, TheRenderRegionIsOutlined) {
   request.width = request.height = 256;
   request.zoom = 4.0f;
   request.centerX = request.centerY = kSize / 2.0f;
-  ViewOptions o = options(MapId::None);
+  ViewOptions o = options(MapId());
   o.region = {20, 24, 16, 8};
   const HeadlessFrame frame = renderHeadless(o, request);
   const auto rgb = [&](int x, int y) {
@@ -275,11 +280,11 @@ TEST(HeadlessGl, TheUiDrawsThePanelAndTheInspector) {
   request.rounds = 2;
   request.width = 900;
   request.height = 600;
-  const HeadlessFrame plain = renderHeadless(options(MapId::None), request);
+  const HeadlessFrame plain = renderHeadless(options(MapId()), request);
   request.withUi = true;
   request.inspectX = 30;
   request.inspectY = 40;
-  const HeadlessFrame ui = renderHeadless(options(MapId::None), request);
+  const HeadlessFrame ui = renderHeadless(options(MapId()), request);
   ASSERT_EQ(plain.rgb.size(), ui.rgb.size());
   // The panel (top left) and the inspector (top right) cover what was background.
   auto changed = [&](int x0, int y0, int x1, int y1) {
@@ -316,7 +321,7 @@ TEST_F(ShaderDirectory, ACompileErrorNamesTheFileAndCarriesTheLog) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(MapId::None), request);
+    renderHeadless(options(MapId()), request);
     FAIL() << "no error for a broken shader";
   } catch (const GlError& e) {
     const std::string message = e.what();
@@ -331,7 +336,7 @@ TEST_F(ShaderDirectory, AMissingShaderNamesTheFile) {
   HeadlessRequest request;
   request.rounds = 1;
   try {
-    renderHeadless(options(MapId::None), request);
+    renderHeadless(options(MapId()), request);
     FAIL() << "no error for a missing shader";
   } catch (const GlError& e) {
     EXPECT_NE(std::string(e.what()).find("composite.frag"), std::string::npos) << e.what();

@@ -4,6 +4,7 @@
 // error in its message, when the changed file does not load. No GL is needed.
 #include "viewer/app/view_app.h"
 
+#include "methods/ld/ld.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
 
@@ -51,7 +52,7 @@ ViewOptions optionsFor(const std::string& path) {
   o.scene = prepareScene(loadScene(path));
   o.scenePath = path;
   o.loadScene = [](const std::string& file) { return loadScene(file); };
-  o.method = MethodKind::Ld;
+  o.method = &ldMethod();
   o.threads = 1;
   o.preview = false;
   o.rounds = 1;

@@ -4,6 +4,7 @@
 // No GL is needed.
 #include "viewer/app/view_app.h"
 
+#include "methods/ld/ld.h"
 #include "scene/scene_loader.h"
 
 #include <gtest/gtest.h>
@@ -20,7 +21,7 @@ ViewOptions cornell() {
   scene.settings.width = 32;
   scene.settings.height = 24;
   o.scene = prepareScene(std::move(scene));
-  o.method = MethodKind::Ld;
+  o.method = &ldMethod();
   o.threads = 1;
   o.preview = false;
   o.rounds = 2;
@@ -66,7 +67,7 @@ TEST(RenderRegion, OnlyTheRegionRendersAndTheRestIsTheLastPictureDimmed) {
   EXPECT_EQ(inside, 40);
   EXPECT_GT(changedInside, 30) << "the region's pixels are rendered, not dimmed";
   // Sample counts exist inside the region only.
-  const SnapshotMap* samples = snap->map(MapId::SampleCount);
+  const SnapshotMap* samples = snap->map(maps::SampleCount);
   ASSERT_NE(samples, nullptr);
   EXPECT_EQ(samples->values.size(), size_t(32 * 24));
   EXPECT_GT(samples->values[size_t(8 * 32 + 12)], 0.0f);
@@ -78,7 +79,7 @@ TEST(RenderRegion, OnlyTheRegionRendersAndTheRestIsTheLastPictureDimmed) {
   app.setRegion({});
   waitForRound(app);
   EXPECT_EQ(app.snapshot()->width, 32);
-  EXPECT_GT(app.snapshot()->map(MapId::SampleCount)->values[size_t(2 * 32 + 2)], 0.0f);
+  EXPECT_GT(app.snapshot()->map(maps::SampleCount)->values[size_t(2 * 32 + 2)], 0.0f);
 }
 
 TEST(RenderRegion, ARegionIsClampedToTheImage) {

@@ -143,15 +143,15 @@ void DisplayRenderer::setSlices(const Snapshot& snapshot) {
   std::vector<uint8_t> texels(4 * n, kSliceTexelNone);
   // The texel of a slice index: index + 1, kSliceTexelNone (0) for none (-1).
   static_assert(kSliceTexelNone == 0, "a slice index i is stored as i + 1");
-  const auto channel = [&](MapId id, int k) {
-    const SnapshotMap* map = snapshot.map(id);
-    if (!map) return;
-    for (size_t i = 0; i < n && i < map->values.size(); ++i)
-      texels[4 * i + size_t(k)] = uint8_t(int(map->values[i]) + 1);
-  };
-  channel(MapId::SliceB, 0);
-  channel(MapId::SliceC, 1);
-  if (const SnapshotMap* selected = snapshot.map(MapId::Selected))
+  // The maps of slice indices, by their kinds' role: the first in r, the second in g.
+  for (const SnapshotMap& map : snapshot.maps) {
+    const SliceRole role = map.id.kind()->slices;
+    if (role == SliceRole::None) continue;
+    const size_t k = role == SliceRole::First ? 0 : 1;
+    for (size_t i = 0; i < n && i < map.values.size(); ++i)
+      texels[4 * i + k] = uint8_t(int(map.values[i]) + 1);
+  }
+  if (const SnapshotMap* selected = snapshot.map(maps::Selected))
     for (size_t i = 0; i < n && i < selected->values.size(); ++i)
       texels[4 * i + 2] = uint8_t(selected->values[i]);
   glBindTexture(GL_TEXTURE_2D, slices_);

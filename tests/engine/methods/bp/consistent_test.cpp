@@ -1,7 +1,7 @@
 // BP's consistent algorithm (the default preset): it converges as samples grow, its raw
 // estimate is unbiased (the per-pixel z-test LD passes), a fixed-spp run does not depend on the
 // thread count, and its stopping rules hold.
-#include "methods/bp/method.h"
+#include "methods/bp/consistent.h"
 
 #include "core/image_io.h"
 #include "eval/metrics.h"
@@ -16,9 +16,8 @@
 namespace penumbra {
 namespace {
 
-BpConfig consistentConfig() {
-  BpConfig c;
-  applyBpPreset(c, BpPreset::Consistent);
+BpConsistentConfig consistentConfig() {
+  BpConsistentConfig c;
   return c;
 }
 
@@ -39,20 +38,20 @@ TEST(ConsistentBp, ItsErrorFallsAtLeastSixfoldFrom16To256Spp) {
   double mse[2];
   const int spp[2] = {16, 256};
   for (int i = 0; i < 2; ++i) {
-    auto method = makeBpMethod(*prepared, RunShape::batch(spp[i], 4), consistentConfig());
+    auto method = makeBpConsistentMethod(*prepared, RunShape::batch(spp[i], 4), consistentConfig());
     const auto snap = test::runToEnd(*method);
     mse[i] = compareImages(snap->reconstructed, reference).mse - floor;
   }
   EXPECT_GT(mse[0], 6.0 * mse[1]) << "MSE 16 spp " << mse[0] << ", 256 spp " << mse[1];
 }
 
-void expectRawEstimatePassesTheZTest(const BpConfig& config) {
+void expectRawEstimatePassesTheZTest(const BpConsistentConfig& config) {
   const Image reference = readImage(test::sourcePath("tests/data/cornell_ref.exr"));
   const Image referenceVariance = readImage(test::sourcePath("tests/data/cornell_ref_var.exr"));
   auto prepared = test::shippedScene("cornell", reference.width);
   RunShape shape = RunShape::batch(256, 12345);
   shape.sampler = SamplerKind::Independent;  // independent samples: the variance is honest
-  auto method = makeBpMethod(*prepared, shape, config);
+  auto method = makeBpConsistentMethod(*prepared, shape, config);
   const auto snap = test::runToEnd(*method);
   const Image variance = method->rawVarianceOfMean();
   ASSERT_EQ(variance.pixels.size(), reference.pixels.size());
@@ -64,7 +63,7 @@ void expectRawEstimatePassesTheZTest(const BpConfig& config) {
   // ones plain LD draws at 125 spp with this seed) average 0.0397 against 0.0472; by their own
   // variance z = -4.9, by the reference's z = -2.2.
   constexpr double kReferenceSpp = 16384;
-  const SnapshotMap* count = snap->map(MapId::SampleCount);
+  const SnapshotMap* count = snap->map(maps::SampleCount);
   ASSERT_NE(count, nullptr);
   const double n = double(reference.pixels.size());
   const double pixelAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / n);
@@ -98,7 +97,7 @@ TEST(ConsistentBp, TheRawEstimatePassesTheZTestAgainstTheReference) {
 // With slice steering a pixel's slices get unequal counts; the stratified estimate (each
 // slice weighed by its area) keeps the raw estimate unbiased.
 TEST(ConsistentBp, WithSliceSteeringTheRawEstimatePassesTheZTest) {
-  BpConfig config = consistentConfig();
+  BpConsistentConfig config = consistentConfig();
   config.sliceSteering = true;
   expectRawEstimatePassesTheZTest(config);
 }
@@ -108,7 +107,7 @@ TEST(ConsistentBp, AFixedSppRunDoesNotDependOnTheThreadCount) {
   std::shared_ptr<Snapshot> snaps[2];
   for (int i = 0; i < 2; ++i) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(i + 1));
-    auto method = makeBpMethod(*prepared, RunShape::batch(16, 2), consistentConfig());
+    auto method = makeBpConsistentMethod(*prepared, RunShape::batch(16, 2), consistentConfig());
     snaps[i] = test::runToEnd(*method);
   }
   EXPECT_EQ(snaps[0]->raw.pixels, snaps[1]->raw.pixels);
@@ -119,29 +118,33 @@ TEST(ConsistentBp, TheNoiseThresholdStopsTheRunOnceTheEstimateIsBelowIt) {
   auto prepared = test::shippedScene("cornell", 32);
   RunShape shape = RunShape::progressive(1, 3, 4096);
   shape.noiseThreshold = 2e-3f;
-  auto method = makeBpMethod(*prepared, shape, consistentConfig());
+  auto method = makeBpConsistentMethod(*prepared, shape, consistentConfig());
   const auto snap = test::runToEnd(*method, 100000);
   EXPECT_LT(method->estimatedError(), 2e-3);
   EXPECT_LT(double(snap->keptSamples) / (32 * 32), 4096.0);  // stopped before the cap
   EXPECT_GT(meanOfLuminance(snap->reconstructed), 0.0);
 }
 
-TEST(ConsistentBp, IsTheDefaultOfTheBpPresets) {
-  EXPECT_EQ(parseBpPreset("consistent"), BpPreset::Consistent);
-  EXPECT_EQ(consistentConfig().algorithm, BpAlgorithm::Consistent);
-  BpConfig paper;
-  applyBpPreset(paper, BpPreset::Paper);
-  EXPECT_EQ(paper.algorithm, BpAlgorithm::Paper);
+// `bp` alone and `bp:consistent` are this algorithm with its defaults; `paper` and `tuned` are
+// the other algorithm.
+TEST(ConsistentBp, IsTheDefaultOfBp) {
+  const MethodRegistry& methods = builtinMethods();
+  EXPECT_EQ(methods.find("bp"), &bpConsistentMethod());
+  EXPECT_EQ(methods.find("bp", "consistent"), &bpConsistentMethod());
+  EXPECT_NE(methods.find("bp", "paper"), &bpConsistentMethod());
+  EXPECT_NE(methods.find("bp", "tuned"), &bpConsistentMethod());
+  EXPECT_EQ(bpConsistentMethod().defaultPreset()->name, "consistent");
+  const MethodConfig config = methods.configFor("bp");
+  EXPECT_EQ(describeChanges(config, MethodConfig(bpConsistentMethod(), consistentConfig())), "");
 }
 
 // Without networks nothing is stored per sample, so any spp is valid (1024 spp has a coarse
 // pass of 128, twice the reservoir); with them the reservoir must hold the coarse pass.
 TEST(ConsistentBp, StoresSamplesOnlyForItsNetworks) {
-  BpConfig config = consistentConfig();
-  const RunShape shape = RunShape::batch(1024);
-  EXPECT_EQ(config.validate(shape), "");
-  config.networkWeight = 1.0f;
-  EXPECT_NE(config.validate(shape).find("--reservoir"), std::string::npos);
+  MethodSpec spec{RunShape::batch(1024), bpConsistentMethod().defaults()};
+  EXPECT_EQ(validate(spec), "");
+  spec.config.as<BpConsistentConfig>().networkWeight = 1.0f;
+  EXPECT_NE(validate(spec).find("--reservoir"), std::string::npos);
 }
 
 }  // namespace

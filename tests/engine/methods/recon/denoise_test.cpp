@@ -440,13 +440,14 @@ TEST(DenoiseValidation, BadInputAndConfigThrowNamingTheField) {
   withConfig([](DenoiseConfig& c) { c.radii = {1, 1}; }, "radii");
   withConfig([](DenoiseConfig& c) { c.radii = {0, 2}; }, "radii");
   withConfig([](DenoiseConfig& c) { c.radii = {1, 1000}; }, "radii");
-  withConfig([](DenoiseConfig& c) { c.k = 0.0f; }, "k");
-  withConfig([](DenoiseConfig& c) { c.k = std::numeric_limits<float>::quiet_NaN(); }, "k");
+  // A setting with a flag is named by its flag (recon::denoiseParams()); the others by field.
+  withConfig([](DenoiseConfig& c) { c.k = 0.0f; }, "--nl-k");
+  withConfig([](DenoiseConfig& c) { c.k = std::numeric_limits<float>::quiet_NaN(); }, "--nl-k");
   withConfig([](DenoiseConfig& c) { c.noiseCancel = -1.0f; }, "noiseCancel");
-  withConfig([](DenoiseConfig& c) { c.patchRadius = -1; }, "patchRadius");
-  withConfig([](DenoiseConfig& c) { c.kFeature = -0.5f; }, "kFeature");
+  withConfig([](DenoiseConfig& c) { c.patchRadius = -1; }, "--nl-patch");
+  withConfig([](DenoiseConfig& c) { c.kFeature = -0.5f; }, "--feature-k");
   withConfig([](DenoiseConfig& c) { c.tau = 0.0f; }, "tau");
-  withConfig([](DenoiseConfig& c) { c.sureSmoothRadius = -2; }, "sureSmoothRadius");
+  withConfig([](DenoiseConfig& c) { c.sureSmoothRadius = -2; }, "--sure-smooth");
   withConfig([](DenoiseConfig& c) { c.albedoEpsilon = 0.0f; }, "albedoEpsilon");
   withConfig([](DenoiseConfig& c) { c.radii = {1, 5}; }, "denseRadius");
 }

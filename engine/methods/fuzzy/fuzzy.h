@@ -17,8 +17,11 @@ struct FuzzyConfig : AllocationConfig {
 
 // The parameters of FuzzyConfig, for the command line, the panel, the stats and compare.
 const ParamTable<FuzzyConfig>& fuzzyParams();
+// The method\'s descriptor (methods/method.h).
+const MethodDescriptor& fuzzyMethod();
 
-// Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
+// Throws std::invalid_argument on a bad configuration (factory.h's validate()); the scene must
+// outlive the method.
 std::unique_ptr<ProgressiveMethod> makeFuzzyMethod(const PreparedScene& prepared,
                                                    const RunShape& shape,
                                                    const FuzzyConfig& config);

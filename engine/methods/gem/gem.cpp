@@ -1,4 +1,6 @@
-#include "methods/gem.h"
+#include "methods/gem/gem.h"
+
+#include "methods/factory.h"
 
 #include "methods/film_reconstruction.h"
 
@@ -18,8 +20,10 @@ const ParamTable<GemConfig>& gemParams() {
   static const ParamTable<GemConfig> table = [] {
     ParamTable<GemConfig> t;
     t.include(allocationParams())
-        .real("gamma", "gamma", "gem: confidence gamma of the bias test",
-              [](auto& c) -> auto& { return c.gamma; }, 1e-4, 0.52, {0.01, 0.5});
+        .real("gamma", "gamma",
+              "gem: confidence gamma of the bias test (c_gamma needs 1.9 gamma < 1)",
+              [](auto& c) -> auto& { return c.gamma; }, 0, 1 / 1.9, {0.01, 0.5})
+        .open(true, true);
     return t;
   }();
   return table;
@@ -210,10 +214,7 @@ class GemMethod final : public AllocationMethod {
         mean_(pixelCount_, glm::dvec3(0.0)),
         m2_(pixelCount_, glm::dvec3(0.0)),
         n_(pixelCount_, 0),
-        samplingScale_(pixelCount_, 0) {
-    if (!(config.gamma > 0.0f && config.gamma < 1.0f / 1.9f))
-      throw std::invalid_argument("gamma must be in (0, 0.526)");
-  }
+        samplingScale_(pixelCount_, 0) {}
 
  protected:
   void addSample(size_t p, uint32_t, vec3 L) override {
@@ -262,7 +263,7 @@ class GemMethod final : public AllocationMethod {
     const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
     snap.reconstructed = Image(width_, height_);
     snap.reconstructed.pixels = s.estimate;
-    snap.addMap(MapId::FilterScale, "filter scale", asFloats(s.scale),
+    snap.addMap(maps::FilterScale, "filter scale", asFloats(s.scale),
                 MapLegend::categorical(scaleLabels()));
     shownScale_ = s.scale;  // what the inspector tells of the pixel
   }
@@ -273,7 +274,7 @@ class GemMethod final : public AllocationMethod {
     const std::vector<std::string> labels = scaleLabels();
     in.addValue("filter scale", {float(scale)},
                 "filter scale " + (scale < labels.size() ? labels[scale] : std::string("?")),
-                MapId::FilterScale);
+                maps::FilterScale);
   }
 
   size_t statisticsBytes() const override {
@@ -330,7 +331,19 @@ class GemMethod final : public AllocationMethod {
 
 std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
                                                  const RunShape& shape, const GemConfig& config) {
+  requireValid({shape, MethodConfig(gemMethod(), config)});
   return std::make_unique<GemMethod>(prepared, shape, config);
+}
+
+const MethodDescriptor& gemMethod() {
+  static const MethodDescriptor descriptor(allocationDefinition<GemConfig>(
+      "gem", "GEM (Rousselle et al. 2011)", gemParams(),
+      [](const PreparedScene& prepared, const RunShape& shape,
+         const GemConfig& config) -> std::unique_ptr<ProgressiveMethod> {
+        return std::make_unique<GemMethod>(prepared, shape, config);
+      },
+      true, {&maps::FilterScale}));
+  return descriptor;
 }
 
 }  // namespace penumbra

@@ -1,5 +1,7 @@
 // Cycles' half-buffer error as an allocation criterion.
-#include "methods/cycles.h"
+#include "methods/cycles/cycles.h"
+
+#include "methods/factory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -99,7 +101,18 @@ class CyclesMethod final : public AllocationMethod {
 std::unique_ptr<ProgressiveMethod> makeCyclesMethod(const PreparedScene& prepared,
                                                     const RunShape& shape,
                                                     const CyclesConfig& config) {
+  requireValid({shape, MethodConfig(cyclesMethod(), config)});
   return std::make_unique<CyclesMethod>(prepared, shape, config);
+}
+
+const MethodDescriptor& cyclesMethod() {
+  static const MethodDescriptor descriptor(allocationDefinition<CyclesConfig>(
+      "cycles", "Cycles half-buffer error (Dammertz et al. 2010)", cyclesParams(),
+      [](const PreparedScene& prepared, const RunShape& shape,
+         const CyclesConfig& config) -> std::unique_ptr<ProgressiveMethod> {
+        return std::make_unique<CyclesMethod>(prepared, shape, config);
+      }));
+  return descriptor;
 }
 
 }  // namespace penumbra

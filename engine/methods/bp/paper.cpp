@@ -1,12 +1,15 @@
-// The BP method, round by round: the coarse pass (§3), then adaptive rounds that rank the
-// pixels by their error estimate, sample the chosen ones in their slices and retrain their
-// networks; snapshots and the pixel inspector. The phases are in pixel_store, trainer,
-// error_estimate, candidates and reconstruct.
-#include "methods/bp/method.h"
+// BP's paper algorithm, round by round: the coarse pass (§3), then adaptive rounds that rank
+// the pixels by their error estimate, sample the chosen ones in their slices and retrain their
+// networks; snapshots and the pixel inspector; its parameters, presets and descriptor. The
+// phases are in pixel_store, trainer, error_estimate, candidates and reconstruct.
+#include "methods/bp/paper.h"
 
 #include "core/rng.h"
-#include "methods/bp/consistent.h"
+#include "methods/bp/candidates.h"
+#include "methods/bp/error_estimate.h"
 #include "methods/bp/state.h"
+#include "methods/bp/trainer.h"
+#include "methods/factory.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -21,44 +24,15 @@ namespace penumbra {
 namespace bp {
 
 namespace {
-// Keeps the networks' initial weights apart from the method's other random streams.
-constexpr uint64_t kNetSalt = 0x6e6574776f726bULL;
-}  // namespace
-
-BpState::BpState(const PreparedScene& scene, const RunShape& runShape, const BpConfig& bpConfig)
-    : prepared(scene),
-      shape(runShape),
-      config(bpConfig),
-      width(scene.scene.settings.width),
-      height(scene.scene.settings.height),
-      pixelCount(size_t(width) * height),
-      slicesPerPixel(bpConfig.slicesPerSide * bpConfig.slicesPerSide),
-      coarseSpp(bpConfig.effectiveCoarseSpp(runShape)),
-      schedule(runShape, pixelCount, coarseSpp, bpConfig.maxRounds) {
-  store.slicesPerPixel = slicesPerPixel;
-  store.histogramLevels = config.histogramLevels;
-  store.reservoirLimit = size_t(config.reservoir);
-  store.seed = shape.seed;
-  store.resize(pixelCount);
-  nets.resize(pixelCount);
-  selected.assign(pixelCount, 0);
-  start = Clock::now();
-}
-
-namespace {
 
 using namespace method;
 
-// One traced camera sample of the coarse pass, kept until the tone map is known.
-struct TracedSample {
-  CameraSample camera;
-  vec3 radiance;
-};
-
-class BpMethod final : public ProgressiveMethod {
+class PaperMethod final : public ProgressiveMethod {
  public:
-  BpMethod(const PreparedScene& prepared, const RunShape& shape, const BpConfig& config)
-      : s_((validateOrThrow(shape, config), prepared), shape, config) {}
+  PaperMethod(const PreparedScene& prepared, const RunShape& shape, const BpPaperConfig& config)
+      : ProgressiveMethod(shape),
+        config_(config),
+        s_(prepared, shape, config, config.effectiveCoarseSpp(shape), config.histogramLevels) {}
 
   void runRound(const std::atomic<bool>* cancel) override {
     if (done()) return;
@@ -67,15 +41,6 @@ class BpMethod final : public ProgressiveMethod {
     else
       adaptiveRound(cancel);
     ++s_.rounds;
-  }
-
-  bool done() const override {
-    if (s_.rounds == 0) return false;
-    if (s_.shape.openEnded) return s_.schedule.finished(s_.spent);
-    // Outlier rejections (predicted mode) can leave budget after maxRounds: up to as
-    // many make-up rounds again, then stop.
-    return s_.schedule.finished(s_.spent) || s_.stalled ||
-           s_.adaptiveRounds >= 2 * s_.config.maxRounds;
   }
 
   int roundsDone() const override { return s_.rounds; }
@@ -94,12 +59,17 @@ class BpMethod final : public ProgressiveMethod {
 
   PixelInspection inspect(int x, int y) const override;
 
- private:
-  static void validateOrThrow(const RunShape& shape, const BpConfig& config) {
-    const std::string problem = config.validate(shape);
-    if (!problem.empty()) throw std::invalid_argument(problem);
+ protected:
+  bool budgetSpent() const override {
+    if (s_.rounds == 0) return false;
+    if (s_.shape.openEnded) return s_.schedule.finished(s_.spent);
+    // Outlier rejections (predicted mode) can leave budget after maxRounds: up to as
+    // many make-up rounds again, then stop.
+    return s_.schedule.finished(s_.spent) || s_.stalled ||
+           s_.adaptiveRounds >= 2 * s_.config.maxRounds;
   }
 
+ private:
   std::string reasonFor(const PixelInspection& in, const PixelState& s) const;
   void coarsePass(const std::atomic<bool>* cancel);
   void adaptiveRound(const std::atomic<bool>* cancel);
@@ -110,15 +80,16 @@ class BpMethod final : public ProgressiveMethod {
     s_.times.train += secondsSince(start);
   }
   Image estimate() const {
-    return s_.store.estimateImage(s_.width, s_.height, s_.config.stratifiedMean);
+    return s_.store.estimateImage(s_.width, s_.height, config_.stratifiedMean);
   }
 
+  const BpPaperConfig config_;
   BpState s_;
 };
 
-std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
-                                             const std::atomic<bool>* cancel) {
-  const BpConfig& config = s_.config;
+std::shared_ptr<Snapshot> PaperMethod::snapshot(bool reconstructImage,
+                                                const std::atomic<bool>* cancel) {
+  const BpPaperConfig& config = config_;
   const size_t pixelCount = s_.pixelCount;
   auto snap = std::make_shared<Snapshot>();
   const auto start = Clock::now();
@@ -127,7 +98,6 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
   snap->final = done();
   snap->width = s_.width;
   snap->height = s_.height;
-  snap->slicesPerSide = config.slicesPerSide;
   snap->raw = estimate();
   std::vector<float> bias(pixelCount), er(pixelCount), prediction(3 * pixelCount);
   std::vector<float> sliceB(pixelCount), sliceC(pixelCount);
@@ -155,10 +125,13 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
   }
 
   // The maps, in the order --aov-dir has always written them.
-  snap->addMap(MapId::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
-  snap->addMap(MapId::ErrorEstimate, "bias", std::move(bias), MapLegend::sequential(0.0f, 1.0f));
+  size_t difficult = 0;  // bias > psi and er > e: what the next round samples first
+  for (size_t p = 0; p < pixelCount; ++p)
+    difficult += bias[p] > config.psi && er[p] > config.network.errorThreshold;
+  snap->addMap(maps::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
+  snap->addMap(maps::ErrorEstimate, "bias", std::move(bias), MapLegend::sequential(0.0f, 1.0f));
   const float erTop = std::max(1e-3f, finiteMax(er));
-  snap->addMap(MapId::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
+  snap->addMap(maps::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
   addSelectedMap(*snap, s_.selected);
   const int S = config.slicesPerSide;
   std::vector<std::string> sliceLabels;
@@ -168,8 +141,8 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
     sliceLabels.push_back(label);
   }
   const MapLegend slices = MapLegend::categorical(std::move(sliceLabels));
-  snap->addMap(MapId::SliceB, "slice B", std::move(sliceB), slices);
-  snap->addMap(MapId::SliceC, "slice C", std::move(sliceC), slices);
+  snap->addMap(maps::SliceB, "slice B", std::move(sliceB), slices).slicesPerSide = S;
+  snap->addMap(maps::SliceC, "slice C", std::move(sliceC), slices).slicesPerSide = S;
   addSampleCountMaps(*snap, kept, traced);
   if (!alphaIndex.empty()) {
     std::vector<std::string> alphaLabels;
@@ -178,17 +151,18 @@ std::shared_ptr<Snapshot> BpMethod::snapshot(bool reconstructImage,
       std::snprintf(label, sizeof label, "a=%g", double(a));
       alphaLabels.push_back(label);
     }
-    snap->addMap(MapId::FilterScale, "filter alpha", asFloats(alphaIndex),
+    snap->addMap(maps::FilterScale, "filter alpha", asFloats(alphaIndex),
                  MapLegend::categorical(std::move(alphaLabels)));
   }
   if (reconstructImage) s_.times.reconstruct += secondsSince(start);
   snap->keptSamples = s_.kept;
-  s_.reportCounts(*snap);
+  s_.reportCounts(*snap, seconds());
+  snap->addStat("difficult_pixels", double(difficult));
   return snap;
 }
 
-PixelInspection BpMethod::inspect(int x, int y) const {
-  const BpConfig& config = s_.config;
+PixelInspection PaperMethod::inspect(int x, int y) const {
+  const BpPaperConfig& config = config_;
   PixelInspection in = startInspection(x, y, s_.width, s_.height, s_.rounds, "bp");
   if (!in.valid) return in;
   const size_t p = size_t(y) * s_.width + x;
@@ -203,21 +177,21 @@ PixelInspection BpMethod::inspect(int x, int y) const {
   std::snprintf(line, sizeof line, "mean I   %.3f %.3f %.3f (tone-mapped)", mean.x, mean.y, mean.z);
   in.addValue("mean I", {mean.x, mean.y, mean.z}, line);
   std::snprintf(line, sizeof line, "net  I'  %.3f %.3f %.3f", net.x, net.y, net.z);
-  in.addValue("I'", {net.x, net.y, net.z}, line, MapId::Prediction);
+  in.addValue("I'", {net.x, net.y, net.z}, line, maps::Prediction);
   // The thresholds bias and er are compared with follow their values.
   const float psi = config.psi, e = config.network.errorThreshold;
   std::snprintf(line, sizeof line, "bias %.3f %s psi %.3f", s.bias, s.bias > psi ? ">" : "<=", psi);
-  in.addValue("bias", {s.bias, psi}, line, MapId::ErrorEstimate);
+  in.addValue("bias", {s.bias, psi}, line, maps::ErrorEstimate);
   std::snprintf(line, sizeof line, "er   %.3f %s e %.3f", s.er, s.er > e ? ">" : "<=", e);
-  in.addValue("er", {s.er, e}, line, MapId::NetworkError);
+  in.addValue("er", {s.er, e}, line, maps::NetworkError);
   const int a = alphaIndexForBias(s.bias, config.filter.phi);
   const float alpha = size_t(a) < config.filter.alphas.size() ? config.filter.alphas[a] : -1.0f;
   std::snprintf(line, sizeof line, "filter alpha %g (index %d)", alpha, a + 1);
-  in.addValue("filter alpha", {float(a), alpha}, line, MapId::FilterScale);
+  in.addValue("filter alpha", {float(a), alpha}, line, maps::FilterScale);
   if (s.sliceB >= 0) {
     std::snprintf(line, sizeof line, "B = slice %d, C = slice %d, eq. 14 %.3f, %s", s.sliceB,
                   s.sliceC, s.contrast, s.warped ? "B's sample warped into C" : "no warping");
-    in.addValue("slices B, C", {float(s.sliceB), float(s.sliceC), s.contrast}, line, MapId::SliceB);
+    in.addValue("slices B, C", {float(s.sliceB), float(s.sliceC), s.contrast}, line, maps::SliceB);
   }
 
   SubpixelInspection& sub = in.subpixel.emplace();
@@ -239,10 +213,10 @@ PixelInspection BpMethod::inspect(int x, int y) const {
 }
 
 // One line for the inspector: the test the pixel passed or failed and what it got.
-std::string BpMethod::reasonFor(const PixelInspection& in, const PixelState& s) const {
+std::string PaperMethod::reasonFor(const PixelInspection& in, const PixelState& s) const {
   char text[256];
-  const bool converged = s.er <= s_.config.network.errorThreshold;
-  const bool difficult = !converged && s.bias > s_.config.psi;
+  const bool converged = s.er <= config_.network.errorThreshold;
+  const bool difficult = !converged && s.bias > config_.psi;
   const char* cls = difficult   ? "difficult (bias > psi, er > e)"
                     : converged ? "converged (er <= e), ranked by er after the others"
                                 : "not difficult (bias <= psi), topped up by bias";
@@ -260,8 +234,8 @@ std::string BpMethod::reasonFor(const PixelInspection& in, const PixelState& s) 
 
 // --- Coarse pass (§3) ------------------------------------------------------------------
 
-void BpMethod::coarsePass(const std::atomic<bool>* cancel) {
-  const BpConfig& config = s_.config;
+void PaperMethod::coarsePass(const std::atomic<bool>* cancel) {
+  const BpPaperConfig& config = config_;
   const PreparedScene& prepared = s_.prepared;
   const size_t pixelCount = s_.pixelCount;
   const int coarseSpp = s_.coarseSpp, width = s_.width;
@@ -326,12 +300,12 @@ void BpMethod::coarsePass(const std::atomic<bool>* cancel) {
 
 // --- Adaptive rounds (§6-§8) -----------------------------------------------------------
 
-void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
-  const BpConfig& config = s_.config;
+void PaperMethod::adaptiveRound(const std::atomic<bool>* cancel) {
+  const BpPaperConfig& config = config_;
   const size_t pixelCount = s_.pixelCount;
   auto start = Clock::now();
   const uint64_t budget = s_.schedule.roundBudget(s_.spent, s_.adaptiveRounds);
-  std::vector<uint32_t> order = rankPixels(s_);
+  std::vector<uint32_t> order = rankPixels(s_, config_);
   const std::vector<uint32_t> slots = allocateSlots(order, pixelCount, budget, s_.slicesPerPixel);
   s_.lastOrder = std::move(order);
   s_.inspectedCandidates.clear();
@@ -380,8 +354,8 @@ void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
                         PixelState& pixel = s_.pixel(p);
                         const uint32_t before = pixel.traced;
                         const uint32_t keptBefore = pixel.kept;
-                        localSpent += samplePixel(s_, p, slots[p], choices[p], chunk.sampler,
-                                                  chunk.counters, chunk.nonFinite);
+                        localSpent += samplePixel(s_, config_, p, slots[p], choices[p],
+                                                  chunk.sampler, chunk.counters, chunk.nonFinite);
                         localTraced += pixel.traced - before;
                         pixel.addedLastRound = pixel.kept - keptBefore;
                       }
@@ -401,11 +375,11 @@ void BpMethod::adaptiveRound(const std::atomic<bool>* cancel) {
 
 }  // namespace bp
 
-std::unique_ptr<ProgressiveMethod> makeBpMethod(const PreparedScene& prepared,
-                                                const RunShape& shape, const BpConfig& config) {
-  if (config.algorithm == BpAlgorithm::Consistent)
-    return bp::makeConsistentMethod(prepared, shape, config);
-  return std::make_unique<bp::BpMethod>(prepared, shape, config);
+std::unique_ptr<ProgressiveMethod> makeBpPaperMethod(const PreparedScene& prepared,
+                                                     const RunShape& shape,
+                                                     const BpPaperConfig& config) {
+  requireValid({shape, MethodConfig(bpPaperMethod(), config)});
+  return std::make_unique<bp::PaperMethod>(prepared, shape, config);
 }
 
 }  // namespace penumbra

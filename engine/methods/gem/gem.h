@@ -23,8 +23,11 @@ struct GemConfig : AllocationConfig {
 
 // The parameters of GemConfig, for the command line, the panel, the stats and compare.
 const ParamTable<GemConfig>& gemParams();
+// The method\'s descriptor (methods/method.h).
+const MethodDescriptor& gemMethod();
 
-// Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
+// Throws std::invalid_argument on a bad configuration (factory.h's validate()); the scene must
+// outlive the method.
 std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
                                                  const RunShape& shape, const GemConfig& config);
 

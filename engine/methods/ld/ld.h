@@ -6,6 +6,7 @@
 
 #include "core/clock.h"
 #include "methods/film.h"
+#include "methods/method.h"
 #include "methods/params.h"
 #include "methods/progressive.h"
 #include "methods/recon/denoise.h"
@@ -29,6 +30,8 @@ struct LdConfig {
   recon::DenoiseConfig denoise;
 };
 const ParamTable<LdConfig>& ldParams();
+// The method's descriptor (methods/method.h): `ld`, its `filtered` preset, its maps.
+const MethodDescriptor& ldMethod();
 
 // A batch run spreads its spp over this many rounds (fewer when spp is smaller), so that a
 // long render reports progress and can be cancelled between rounds; the image does not
@@ -41,9 +44,6 @@ class LdMethod final : public ProgressiveMethod {
   LdMethod(const PreparedScene& prepared, const RunShape& shape, const LdConfig& config = {});
 
   void runRound(const std::atomic<bool>* cancel) override;
-  bool done() const override {
-    return schedule_.finished(drawn_) || stoppedByRule(shape_, secondsSince(start_));
-  }
   int roundsDone() const override { return rounds_; }
   size_t memoryBytes() const override;
   PixelInspection inspect(int x, int y) const override;
@@ -59,9 +59,11 @@ class LdMethod final : public ProgressiveMethod {
   // Each rendered pixel is exactly what it is in a run of every pixel.
   void renderOnly(std::vector<uint8_t> mask);
 
+ protected:
+  bool budgetSpent() const override { return schedule_.finished(drawn_); }
+
  private:
   const PreparedScene& prepared_;
-  RunShape shape_;
   LdConfig config_;
   RoundSchedule schedule_;  // per pixel: every pixel gets the same samples
   int width_, height_;
@@ -79,7 +81,6 @@ class LdMethod final : public ProgressiveMethod {
   int rounds_ = 0;
   method::Counters counters_;
   PhaseTimes times_;
-  Clock::time_point start_;
 };
 
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,

@@ -1,6 +1,12 @@
 // The BP method as a whole: budget, determinism, bounded memory, the bias of edge and flat
 // pixels, and its building blocks (slot allocation, bias, network inputs).
-#include "methods/bp/method.h"
+#include "methods/bp/paper.h"
+
+#include "methods/bp/candidates.h"
+#include "methods/bp/error_estimate.h"
+#include "methods/bp/state.h"
+#include "methods/bp/trainer.h"
+#include "methods/factory.h"
 
 #include "methods/render.h"
 #include "scene/scene_loader.h"
@@ -25,7 +31,7 @@ std::unique_ptr<PreparedScene> loadScaled(const std::string& name, int size) {
 const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
   static const std::vector<float> none;
   const SnapshotMap* m = s.map(id);
-  EXPECT_NE(m, nullptr) << "no " << mapName(id) << " map";
+  EXPECT_NE(m, nullptr) << "no " << id.name() << " map";
   return m ? m->values : none;
 }
 
@@ -122,7 +128,7 @@ TrainedPixel trainedBias(int inputs, float (*radiance)(float, float), uint64_t s
 }
 
 TEST(BpBias, HardEdgeIsDifficultAndAFlatPixelIsNot) {
-  const float psi = BpConfig{}.psi;
+  const float psi = BpPaperConfig{}.psi;
   // An edge at dx = 0.25: the centre lies on the bright side while only 3/4 of the pixel
   // is bright, so I' ~ 0.8 and the mean ~ 0.6 (tone-mapped targets 0.8 and 0.0).
   auto edge = [](float dx, float) { return dx < 0.25f ? 0.8f : 0.0f; };
@@ -152,15 +158,15 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
   auto prepared = loadScaled("cornell", 24);
   for (int spp : {8, 16, 13}) {
     RunShape shape;
-    BpConfig config;
+    BpPaperConfig config;
     shape.spp = spp;
     shape.seed = 5;
-    auto method = makeBpMethod(*prepared, shape, config);
+    auto method = makeBpPaperMethod(*prepared, shape, config);
     const auto snap = runToEnd(*method);
     const uint64_t pixels = 24 * 24;
     ASSERT_EQ(snap->nonFiniteSamples, 0u);
     EXPECT_EQ(snap->keptSamples, uint64_t(spp) * pixels) << spp;
-    const std::vector<float>& kept = mapOf(*snap, MapId::SampleCount);
+    const std::vector<float>& kept = mapOf(*snap, maps::SampleCount);
     EXPECT_EQ(std::accumulate(kept.begin(), kept.end(), uint64_t(0)), uint64_t(spp) * pixels);
     // Traced mode traces N_candi candidates per adaptive sample in a non-empty slice.
     EXPECT_GT(snap->tracedSamples, snap->keptSamples);
@@ -168,7 +174,7 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
               uint64_t(config.effectiveCoarseSpp(shape)) * pixels +
                   uint64_t(spp - config.effectiveCoarseSpp(shape)) * pixels * 4);
     EXPECT_LE(snap->round, config.maxRounds + 1);
-    const std::vector<float>& traced = mapOf(*snap, MapId::TracedCount);
+    const std::vector<float>& traced = mapOf(*snap, maps::TracedCount);
     for (size_t p = 0; p < pixels; ++p) EXPECT_GE(traced[p], kept[p]);
   }
 }
@@ -176,10 +182,10 @@ TEST(BpMethod, SpendsTheSampleBudgetExactly) {
 TEST(BpMethod, PredictedCandidatesTraceOneRayPerSampleAndCountRejections) {
   auto prepared = loadScaled("cornell", 20);
   RunShape shape;
-  BpConfig config;
+  BpPaperConfig config;
   shape.spp = 16;
   config.candidateMode = CandidateMode::Predicted;
-  auto method = makeBpMethod(*prepared, shape, config);
+  auto method = makeBpPaperMethod(*prepared, shape, config);
   const auto snap = runToEnd(*method);
   const uint64_t pixels = 20 * 20;
   // Every traced sample is either kept or rejected as an outlier.
@@ -192,47 +198,47 @@ TEST(BpMethod, PredictedCandidatesTraceOneRayPerSampleAndCountRejections) {
 TEST(BpMethod, SameSeedGivesTheSameImageWhateverTheThreadCount) {
   auto prepared = loadScaled("balls", 32);
   RunShape shape;
-  BpConfig config;
+  BpPaperConfig config;
   shape.spp = 8;
   shape.seed = 11;
   std::shared_ptr<Snapshot> one, two;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    auto method = makeBpMethod(*prepared, shape, config);
+    auto method = makeBpPaperMethod(*prepared, shape, config);
     one = runToEnd(*method);
   }
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    auto method = makeBpMethod(*prepared, shape, config);
+    auto method = makeBpPaperMethod(*prepared, shape, config);
     two = runToEnd(*method);
   }
   EXPECT_EQ(one->raw.pixels, two->raw.pixels);
   EXPECT_EQ(one->reconstructed.pixels, two->reconstructed.pixels);
-  EXPECT_EQ(mapOf(*one, MapId::ErrorEstimate), mapOf(*two, MapId::ErrorEstimate));
-  EXPECT_EQ(mapOf(*one, MapId::SampleCount), mapOf(*two, MapId::SampleCount));
+  EXPECT_EQ(mapOf(*one, maps::ErrorEstimate), mapOf(*two, maps::ErrorEstimate));
+  EXPECT_EQ(mapOf(*one, maps::SampleCount), mapOf(*two, maps::SampleCount));
   EXPECT_EQ(one->rays, two->rays);
   shape.seed = 12;
-  auto other = makeBpMethod(*prepared, shape, config);
+  auto other = makeBpPaperMethod(*prepared, shape, config);
   EXPECT_NE(runToEnd(*other)->raw.pixels, one->raw.pixels);
 }
 
 TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
   auto prepared = loadScaled("tire", 48);
   RunShape shape;
-  BpConfig config;
+  BpPaperConfig config;
   shape.spp = 16;
   config.maxRounds = 16;  // a round's budget (0.75 spp) covers only some pixels
-  auto method = makeBpMethod(*prepared, shape, config);
+  auto method = makeBpPaperMethod(*prepared, shape, config);
   method->runRound(nullptr);
   const auto coarse = method->snapshot();
   method->runRound(nullptr);
   const auto next = method->snapshot();
   const float e = config.network.errorThreshold;
-  const std::vector<float>& bias = mapOf(*coarse, MapId::ErrorEstimate);
-  const std::vector<float>& er = mapOf(*coarse, MapId::NetworkError);
-  const std::vector<float>& chosen = mapOf(*next, MapId::Selected);
-  const std::vector<float>& keptBefore = mapOf(*coarse, MapId::SampleCount);
-  const std::vector<float>& keptAfter = mapOf(*next, MapId::SampleCount);
+  const std::vector<float>& bias = mapOf(*coarse, maps::ErrorEstimate);
+  const std::vector<float>& er = mapOf(*coarse, maps::NetworkError);
+  const std::vector<float>& chosen = mapOf(*next, maps::Selected);
+  const std::vector<float>& keptBefore = mapOf(*coarse, maps::SampleCount);
+  const std::vector<float>& keptAfter = mapOf(*next, maps::SampleCount);
   size_t difficult = 0, selected = 0;
   float lowestSelectedBias = 1e30f;
   for (size_t p = 0; p < bias.size(); ++p) {
@@ -268,13 +274,11 @@ TEST(BpMethod, DifficultPixelsAreSampledFirstInDescendingBias) {
 
 TEST(BpMethod, OpenEndedMemoryStaysFlat) {
   auto prepared = loadScaled("cornell", 16);
-  RunShape shape;
-  BpConfig config;
-  shape.openEnded = true;
-  shape.roundSpp = 4;
+  RunShape shape = RunShape::progressive(4);
+  BpPaperConfig config;
   config.reservoir = 12;
   config.network.epochs = 5;
-  auto method = makeBpMethod(*prepared, shape, config);
+  auto method = makeBpPaperMethod(*prepared, shape, config);
   size_t atFive = 0;
   for (int round = 0; round < 16; ++round) {
     method->runRound(nullptr);
@@ -289,12 +293,9 @@ TEST(BpMethod, OpenEndedMemoryStaysFlat) {
 
 TEST(BpMethod, OpenEndedStopsAtMaxSpp) {
   auto prepared = loadScaled("cornell", 8);
-  RunShape shape;
-  BpConfig config;
-  shape.openEnded = true;
-  shape.roundSpp = 3;
-  shape.maxSpp = 10;
-  auto method = makeBpMethod(*prepared, shape, config);
+  const RunShape shape = RunShape::progressive(3, 0, 10);
+  BpPaperConfig config;
+  auto method = makeBpPaperMethod(*prepared, shape, config);
   const auto snap = runToEnd(*method);
   EXPECT_EQ(snap->keptSamples, 10u * 64);
 }
@@ -302,46 +303,40 @@ TEST(BpMethod, OpenEndedStopsAtMaxSpp) {
 TEST(BpMethod, RejectsABadConfigurationWithTheFlagName) {
   auto prepared = loadScaled("cornell", 8);
   RunShape shape;
-  BpConfig config;
+  BpPaperConfig config;
   config.filter.phi = {0.3f};
   try {
-    makeBpMethod(*prepared, shape, config);
+    makeBpPaperMethod(*prepared, shape, config);
     FAIL() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("--phi"), std::string::npos);
   }
-  config = BpConfig{};
+  config = BpPaperConfig{};
   config.reservoir = 2;
-  EXPECT_THROW(makeBpMethod(*prepared, shape, config), std::invalid_argument);
+  EXPECT_THROW(makeBpPaperMethod(*prepared, shape, config), std::invalid_argument);
 }
 
-TEST(BpPreset, TunedChangesOnlyItsFourSettingsAndPaperRestoresThem) {
-  BpConfig config;
-  config.network.epochs = 17;  // not part of any preset: kept
-  applyBpPreset(config, BpPreset::Tuned);
-  EXPECT_FALSE(config.outlierRemoval);
-  EXPECT_FALSE(config.warping);
-  EXPECT_FALSE(config.stratifiedMean);
-  EXPECT_FLOAT_EQ(config.filter.sigmaC, 0.05f);
-  EXPECT_EQ(config.network.epochs, 17);
-  EXPECT_EQ(config.candidates, BpConfig{}.candidates);
-  applyBpPreset(config, BpPreset::Paper);
-  const BpConfig paper;
-  EXPECT_EQ(config.outlierRemoval, paper.outlierRemoval);
-  EXPECT_EQ(config.warping, paper.warping);
-  EXPECT_EQ(config.stratifiedMean, paper.stratifiedMean);
-  EXPECT_FLOAT_EQ(config.filter.sigmaC, paper.filter.sigmaC);
-  EXPECT_STREQ(toString(BpPreset::Tuned), "tuned");
+// `paper` names the defaults; `tuned` changes four settings of them and nothing else.
+TEST(BpPreset, TunedChangesOnlyItsFourSettingsOfThePaperDefaults) {
+  const MethodRegistry& methods = builtinMethods();
+  EXPECT_EQ(methods.find("bp", "paper"), &bpPaperMethod());
+  EXPECT_EQ(methods.find("bp", "tuned"), &bpPaperMethod());
+  EXPECT_EQ(bpPaperMethod().defaultPreset()->name, "paper");
+  const MethodConfig paper = methods.configFor("bp", "paper");
+  EXPECT_EQ(describeChanges(paper, bpPaperMethod().defaults()), "");
+  const MethodConfig tuned = methods.configFor("bp", "tuned");
+  EXPECT_EQ(describeChanges(tuned, paper),
+            "sigma-c=0.05 warping=false outlier-removal=false stratified-mean=false");
+  EXPECT_FALSE(tuned.as<BpPaperConfig>().outlierRemoval);
 }
 
 TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
   auto prepared = loadScaled("cornell", 12);
   RunShape shape;
-  BpConfig config;
   shape.spp = 8;
   shape.seed = 5;
-  applyBpPreset(config, BpPreset::Tuned);
-  auto method = makeBpMethod(*prepared, shape, config);
+  const MethodConfig tuned = builtinMethods().configFor("bp", "tuned");
+  auto method = makeBpPaperMethod(*prepared, shape, tuned.as<BpPaperConfig>());
   const auto snap = runToEnd(*method);
   EXPECT_EQ(snap->keptSamples, 8u * 12 * 12);
   EXPECT_EQ(snap->tracedSamples, snap->keptSamples);  // no candidates traced and dropped
@@ -350,11 +345,11 @@ TEST(BpPreset, TunedTracesOneSamplePerKeptSampleAndKeepsTheBudget) {
 TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   auto prepared = loadScaled("cornell", 12);
   RunShape shape;
-  BpConfig config;
+  BpPaperConfig config;
   shape.spp = 16;
   shape.seed = 2;
   config.network.epochs = 10;
-  auto method = makeBpMethod(*prepared, shape, config);
+  auto method = makeBpPaperMethod(*prepared, shape, config);
   EXPECT_FALSE(method->inspect(3, 4).valid);  // nothing before the coarse pass
   method->setInspectedPixel(3, 4);
   method->runRound(nullptr);
@@ -368,7 +363,7 @@ TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   // pixel 0, checked below), and find a round in which it got samples: its candidates are
   // recorded.
   const auto afterCoarse = method->snapshot();
-  const std::vector<float>& bias = mapOf(*afterCoarse, MapId::ErrorEstimate);
+  const std::vector<float>& bias = mapOf(*afterCoarse, maps::ErrorEstimate);
   const size_t p = size_t(std::max_element(bias.begin() + 1, bias.end()) - bias.begin());
   const int px = int(p % 12), py = int(p / 12);
   method->setInspectedPixel(px, py);
@@ -380,12 +375,12 @@ TEST(BpInspect, ExplainsThePixelWithItsSamplesSlicesAndCandidates) {
   }
   ASSERT_GT(in.addedLastRound, 0u) << "the pixel never got samples";
   const auto snap = method->snapshot();
-  EXPECT_EQ(float(in.kept), mapOf(*snap, MapId::SampleCount)[p]);
-  ASSERT_NE(in.value(MapId::ErrorEstimate), nullptr);
-  EXPECT_FLOAT_EQ(in.value(MapId::ErrorEstimate)->values[0], mapOf(*snap, MapId::ErrorEstimate)[p]);
+  EXPECT_EQ(float(in.kept), mapOf(*snap, maps::SampleCount)[p]);
+  ASSERT_NE(in.value(maps::ErrorEstimate), nullptr);
+  EXPECT_FLOAT_EQ(in.value(maps::ErrorEstimate)->values[0], mapOf(*snap, maps::ErrorEstimate)[p]);
   ASSERT_TRUE(in.subpixel.has_value());
   const SubpixelInspection& sub = *in.subpixel;
-  EXPECT_EQ(float(sub.sliceB), mapOf(*snap, MapId::SliceB)[p]);
+  EXPECT_EQ(float(sub.sliceB), mapOf(*snap, maps::SliceB)[p]);
   EXPECT_EQ(sub.slices.size(), 4u);
   uint32_t sliceTotal = 0;
   for (const InspectedSlice& s : sub.slices) sliceTotal += s.count;

@@ -16,8 +16,11 @@ struct CyclesConfig : AllocationConfig {
 
 // The parameters of CyclesConfig, for the command line, the panel, the stats and compare.
 const ParamTable<CyclesConfig>& cyclesParams();
+// The method\'s descriptor (methods/method.h).
+const MethodDescriptor& cyclesMethod();
 
-// Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
+// Throws std::invalid_argument on a bad configuration (factory.h's validate()); the scene must
+// outlive the method.
 std::unique_ptr<ProgressiveMethod> makeCyclesMethod(const PreparedScene& prepared,
                                                     const RunShape& shape,
                                                     const CyclesConfig& config);

@@ -18,8 +18,11 @@ struct FDivConfig : AllocationConfig {
 
 // The parameters of FDivConfig, for the command line, the panel, the stats and compare.
 const ParamTable<FDivConfig>& fdivParams();
+// The method\'s descriptor (methods/method.h).
+const MethodDescriptor& fdivMethod();
 
-// Throws std::invalid_argument on a bad configuration; the scene must outlive the method.
+// Throws std::invalid_argument on a bad configuration (factory.h's validate()); the scene must
+// outlive the method.
 std::unique_ptr<ProgressiveMethod> makeFDivMethod(const PreparedScene& prepared,
                                                   const RunShape& shape, const FDivConfig& config);
 

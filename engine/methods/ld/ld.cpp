@@ -1,5 +1,6 @@
-#include "methods/ld.h"
+#include "methods/ld/ld.h"
 
+#include "methods/factory.h"
 #include "methods/film_reconstruction.h"
 
 #include <tbb/blocked_range.h>
@@ -19,15 +20,15 @@ const ParamTable<LdConfig>& ldParams() {
             "filter", "filtered", "Show the consistent reconstruction of the film", "--filter",
             [](auto& c) -> auto& { return c.filter; })
         .include(
-            denoiseParams(), [](auto& c) -> auto& { return c.denoise; });
+            recon::denoiseParams(), [](auto& c) -> auto& { return c.denoise; });
     return t;
   }();
   return table;
 }
 
 LdMethod::LdMethod(const PreparedScene& prepared, const RunShape& shape, const LdConfig& config)
-    : prepared_(prepared),
-      shape_(shape),
+    : ProgressiveMethod(shape),
+      prepared_(prepared),
       config_(config),
       schedule_(shape, 1, 0, kLdBatchRounds),
       width_(prepared.scene.settings.width),
@@ -36,7 +37,6 @@ LdMethod::LdMethod(const PreparedScene& prepared, const RunShape& shape, const L
       film_(width_, height_) {
   if (const std::string problem = shape.validate(); !problem.empty())
     throw std::invalid_argument(problem);
-  start_ = Clock::now();
 }
 
 void LdMethod::runRound(const std::atomic<bool>* cancel) {
@@ -52,7 +52,6 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
       !shape_.openEnded && !(shape_.noiseThreshold > 0) && roundUpPowerOfTwo(setSize) == setSize;
   const BlockOrder order = wholeBlocks ? BlockOrder::Shuffled : BlockOrder::Nested;
   updatePixelErrors(cancel);
-  const float threshold = shape_.noiseThreshold;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount_, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if (cancel && cancel->load(std::memory_order_relaxed)) return;
@@ -60,7 +59,7 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
                       PixelSampler& sampler = chunk.sampler;
                       for (size_t p = range.begin(); p < range.end(); ++p) {
                         // Below the noise threshold: converged, no more samples.
-                        if (!pixelError_.empty() && pixelError_[p] < threshold) continue;
+                        if (!pixelError_.empty() && shape_.converged(pixelError_[p])) continue;
                         if (!pixelMask_.empty() && !pixelMask_[p]) continue;  // another shard's
                         const int px = int(p % width_), py = int(p / width_);
                         for (uint32_t i = first; i < last; ++i) {
@@ -162,13 +161,38 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
   snap->rays = counters_.rays;
   snap->nonFiniteSamples = counters_.nonFinite;
   snap->times = times_;
-  snap->seconds = secondsSince(start_);
+  snap->seconds = seconds();
   return snap;
 }
 
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
                                                 const RunShape& shape, const LdConfig& config) {
+  requireValid({shape, MethodConfig(ldMethod(), config)});
   return std::make_unique<LdMethod>(prepared, shape, config);
+}
+
+const MethodDescriptor& ldMethod() {
+  static const MethodDescriptor descriptor(MethodDefinition<LdConfig>{
+      .name = "ld",
+      .description = "Low discrepancy (box filter)",
+      .params = &ldParams(),
+      .presets = {{"filtered",
+                   "the consistent reconstruction of the film: the ablation that separates what "
+                   "adaptive sampling adds from what the filter adds",
+                   [](LdConfig& c) { c.filter = true; }}},
+      .maps = {&maps::ErrorEstimate, &maps::Selected, &maps::FilterScale, &maps::SampleCount,
+               &maps::TracedCount, &maps::Albedo, &maps::Normal, &maps::Depth, &maps::Emission,
+               &maps::RawError},
+      .abilities =
+          [](const LdConfig& c) {
+            return MethodAbilities{true, c.filter, false, true};
+          },
+      .check = [](const LdConfig& c, const RunShape&) { return recon::validate(c.denoise); },
+      .make = [](const PreparedScene& prepared, const RunShape& shape,
+                 const LdConfig& config) -> std::unique_ptr<ProgressiveMethod> {
+        return std::make_unique<LdMethod>(prepared, shape, config);
+      }});
+  return descriptor;
 }
 
 }  // namespace penumbra

@@ -1,5 +1,7 @@
 // The fuzzy-uncertainty baseline's score and its per-pixel reservoir of luminances.
-#include "methods/fuzzy.h"
+#include "methods/fuzzy/fuzzy.h"
+
+#include "methods/factory.h"
 
 #include "core/rng.h"
 
@@ -106,7 +108,18 @@ class FuzzyMethod final : public AllocationMethod {
 std::unique_ptr<ProgressiveMethod> makeFuzzyMethod(const PreparedScene& prepared,
                                                    const RunShape& shape,
                                                    const FuzzyConfig& config) {
+  requireValid({shape, MethodConfig(fuzzyMethod(), config)});
   return std::make_unique<FuzzyMethod>(prepared, shape, config);
+}
+
+const MethodDescriptor& fuzzyMethod() {
+  static const MethodDescriptor descriptor(allocationDefinition<FuzzyConfig>(
+      "fuzzy", "Fuzzy uncertainty (re-implemented, after Xu et al. 2008)", fuzzyParams(),
+      [](const PreparedScene& prepared, const RunShape& shape,
+         const FuzzyConfig& config) -> std::unique_ptr<ProgressiveMethod> {
+        return std::make_unique<FuzzyMethod>(prepared, shape, config);
+      }));
+  return descriptor;
 }
 
 }  // namespace penumbra

@@ -1,5 +1,7 @@
 // The f-divergence baseline's score.
-#include "methods/fdiv.h"
+#include "methods/fdiv/fdiv.h"
+
+#include "methods/factory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -93,7 +95,18 @@ class FDivMethod final : public AllocationMethod {
 
 std::unique_ptr<ProgressiveMethod> makeFDivMethod(const PreparedScene& prepared,
                                                   const RunShape& shape, const FDivConfig& config) {
+  requireValid({shape, MethodConfig(fdivMethod(), config)});
   return std::make_unique<FDivMethod>(prepared, shape, config);
+}
+
+const MethodDescriptor& fdivMethod() {
+  static const MethodDescriptor descriptor(allocationDefinition<FDivConfig>(
+      "fdiv", "F-divergence, Hellinger (Rigau et al. 2003)", fdivParams(),
+      [](const PreparedScene& prepared, const RunShape& shape,
+         const FDivConfig& config) -> std::unique_ptr<ProgressiveMethod> {
+        return std::make_unique<FDivMethod>(prepared, shape, config);
+      }));
+  return descriptor;
 }
 
 }  // namespace penumbra
