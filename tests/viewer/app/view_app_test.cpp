@@ -1,0 +1,95 @@
+// The viewer's session and the run's stopping rules: a time limit set in the panel stops every
+// method, the paper preset included (its rounds used to ignore it). No GL is needed.
+#include "viewer/app/view_app.h"
+
+#include "scene/scene_loader.h"
+#include "viewer/app/view_panel.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+namespace penumbra {
+namespace {
+
+ViewOptions cornell(int size) {
+  ViewOptions o;
+  Scene scene = loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell.json");
+  scene.settings.width = scene.settings.height = size;
+  o.scene = prepareScene(std::move(scene));
+  o.threads = 1;
+  o.preview = false;
+  return o;
+}
+
+// Sets the run shape's `name` as the panel's widget does (the same table entry).
+void setInPanel(ViewOptions& o, const std::string& name, double value) {
+  for (const Param<RunShape>* p : runWidgets())
+    if (p->name == name) {
+      p->set(o.shape, value);
+      return;
+    }
+  FAIL() << "the panel has no " << name << " widget";
+}
+
+// Waits (at most `seconds`) until the session stops running; true when it finished.
+bool waitUntilFinished(ViewerApp& app, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    app.update();
+    if (app.session().state() == RenderSession::State::Finished) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+TEST(ViewerApp, ThePanelHasTheRunShapesWidgets) {
+  std::set<std::string> names;
+  for (const Param<RunShape>* p : runWidgets()) names.insert(p->name);
+  for (const char* name : {"seed", "spp", "round-spp", "sampler", "time-limit", "noise-threshold"})
+    EXPECT_TRUE(names.count(name)) << name;
+}
+
+// The paper preset's open-ended rounds have no end of their own: only the time limit the panel
+// sets stops them, after the round in which it passed.
+TEST(ViewerApp, ThePaperPresetStopsAtThePanelsTimeLimit) {
+  ViewOptions o = cornell(24);
+  o.method = o.methods->find("bp", "paper");
+  o.config() = o.methods->configFor("bp", "paper");
+  ASSERT_EQ(o.method->algorithm(), "paper");
+  ASSERT_EQ(o.shape.spp, 0);  // open-ended: never done by its budget
+  setInPanel(o, "time-limit", 0.6);
+  ViewerApp app(o);
+  ASSERT_TRUE(waitUntilFinished(app, 30)) << toString(app.session().state());
+  app.update();
+  const auto snap = app.snapshot();
+  ASSERT_TRUE(snap);
+  EXPECT_TRUE(snap->final);
+  EXPECT_GE(snap->seconds, 0.6);
+  EXPECT_LT(snap->seconds, 20.0);
+  EXPECT_EQ(snap->method, "bp");
+  // It stays finished: no round runs past the limit.
+  const int rounds = snap->round;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  app.update();
+  EXPECT_EQ(app.snapshot()->round, rounds);
+}
+
+// Every method stops at the time limit, whatever its own rounds.
+TEST(ViewerApp, EveryMethodStopsAtTheTimeLimit) {
+  ViewOptions base = cornell(16);
+  for (const MethodDescriptor* method : base.methods->methods()) {
+    ViewOptions o = base;
+    o.method = method;
+    setInPanel(o, "time-limit", 0.3);
+    ViewerApp app(o);
+    EXPECT_TRUE(waitUntilFinished(app, 30)) << method->title();
+    app.update();
+    ASSERT_TRUE(app.snapshot()) << method->title();
+    EXPECT_GE(app.snapshot()->seconds, 0.3) << method->title();
+  }
+}
+
+}  // namespace
+}  // namespace penumbra
