@@ -44,6 +44,11 @@ check() {
 }
 
 cornell="$src/scenes/cornell.json"
+# The viewer's flags for the run's shape, as a user reads them: its panel's stopping rules too.
+"$penumbra" view --help >"$work/view_help.txt"
+for flag in --time-limit --noise-threshold --sampler --round-spp --spp --seed; do
+  check "view --help lists $flag" grep -q -- "  $flag " "$work/view_help.txt"
+done
 expect_ok "render png" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.png" --stats "$work/s.json" -q
 expect_ok "render exr" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/a.exr" -q
 expect_ok "render pfm into a new folder" "$penumbra" render "$cornell" --size 32x32 --spp 2 -o "$work/new/dir/a.pfm" -q
