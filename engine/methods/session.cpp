@@ -147,177 +147,185 @@ bool RenderSession::wait(double timeoutSeconds) {
                           [this] { return state_ != State::Running && !publishPending_; });
 }
 
-void RenderSession::worker() {
-  tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
-  std::unique_ptr<BackgroundObserver> observer;
-  if (background_) {
-    lowerThreadPriority();
-    observer = std::make_unique<BackgroundObserver>(arena);
-  }
-  // The factory stays alive with its method: it may own what the method refers to (the
-  // prepared scene).
+// What the worker thread keeps between rounds: the running method with the factory that owns
+// what it refers to (the prepared scene), the methods it replaced, and when the last snapshot
+// was published and what it cost (the publishing rule in runRound).
+struct RenderSession::Worker {
+  explicit Worker(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+  tbb::task_arena arena;
   MethodFactory activeFactory;
   std::unique_ptr<ProgressiveMethod> method;
   uint64_t methodGeneration = 0;
-  auto drop = [&] {
-    method.reset();
-    activeFactory = nullptr;
-  };
   // A replaced method is freed only after its successor has published its first snapshot:
   // freeing a large method's per-pixel state takes tens of milliseconds, which would
-  // otherwise delay the first picture after a restart.
-  // (Each keeps the factory that owns what it refers to.)
+  // otherwise delay the first picture after a restart. (Each keeps the factory that owns
+  // what it refers to.)
   std::vector<std::pair<std::unique_ptr<ProgressiveMethod>, MethodFactory>> retired;
-  auto retire = [&] {
-    if (method) retired.emplace_back(std::move(method), std::move(activeFactory));
-    activeFactory = nullptr;
-  };
-  // Takes the inspection of the asked-for pixel from the idle method (lock held on entry and
-  // exit, released while the method works).
-  auto takeInspection = [&](std::unique_lock<std::mutex>& held) {
-    const int x = inspectX_, y = inspectY_;
-    const uint64_t generation = generation_;
-    inspectPending_ = false;
-    held.unlock();
-    method->setInspectedPixel(x, y);
-    auto taken = std::make_shared<PixelInspection>(method->inspect(x, y));
-    held.lock();
-    if (generation == generation_ && x == inspectX_ && y == inspectY_) {
-      inspection_ = std::move(taken);
-      ++inspectionVersion_;
-    }
-  };
-  // When the last snapshot was published, and what it cost (the publishing rule below).
   bool publishedOnce = false;
   std::chrono::steady_clock::time_point lastPublish{};
   double lastSnapshotCost = 0;
-  std::unique_lock lock(mutex_);
-  while (true) {
-    wake_.wait(lock, [&] {
-      return quit_ || state_ == State::Running || (inspectPending_ && method) || publishPending_;
-    });
-    if (quit_) return;
-    if (state_ != State::Running) {
-      if (publishPending_ && method && methodGeneration == generation_) {
-        const uint64_t generation = generation_;
-        cancelRound_ = false;  // a restart meanwhile cuts the reconstruction short
-        lock.unlock();
-        std::shared_ptr<Snapshot> snapshot;
-        try {
-          arena.execute([&] { snapshot = method->snapshot(true, &cancelRound_); });
-        } catch (const std::exception&) {
-          snapshot.reset();  // the next round reports the failure
-        }
-        lock.lock();
-        if (snapshot && generation == generation_ && !cancelRound_) {
-          latest_ = std::move(snapshot);
-          latestGeneration_ = generation;
-          ++version_;
-        }
-      }
-      publishPending_ = false;
-      idle_.notify_all();
-      // Only an inspection was asked for, between rounds.
-      if (methodGeneration == generation_)
-        takeInspection(lock);
-      else
-        inspectPending_ = false;
-      continue;
-    }
-    if (state_ == State::Running && stepsLeft_ == 0) {
-      state_ = State::Paused;
-      idle_.notify_all();
-      continue;
-    }
+
+  void drop() {
+    method.reset();
+    activeFactory = nullptr;
+  }
+  void retire() {
+    if (method) retired.emplace_back(std::move(method), std::move(activeFactory));
+    activeFactory = nullptr;
+  }
+};
+
+void RenderSession::takeInspection(Worker& w, std::unique_lock<std::mutex>& held) {
+  const int x = inspectX_, y = inspectY_;
+  const uint64_t generation = generation_;
+  inspectPending_ = false;
+  held.unlock();
+  w.method->setInspectedPixel(x, y);
+  auto taken = std::make_shared<PixelInspection>(w.method->inspect(x, y));
+  held.lock();
+  if (generation == generation_ && x == inspectX_ && y == inspectY_) {
+    inspection_ = std::move(taken);
+    ++inspectionVersion_;
+  }
+}
+
+void RenderSession::serveIdle(Worker& w, std::unique_lock<std::mutex>& lock) {
+  if (publishPending_ && w.method && w.methodGeneration == generation_) {
     const uint64_t generation = generation_;
-    MethodFactory factory = factory_;
-    cancelRound_ = false;
-    const int inspectX = inspectX_, inspectY = inspectY_;
-    const int stepsLeft = stepsLeft_;
+    cancelRound_ = false;  // a restart meanwhile cuts the reconstruction short
     lock.unlock();
-
     std::shared_ptr<Snapshot> snapshot;
-    std::shared_ptr<PixelInspection> inspection;
-    bool finished = false;
-    std::string failure;
     try {
-      if (!method || methodGeneration != generation) {
-        retire();
-        activeFactory = std::move(factory);
-        method = activeFactory();
-        methodGeneration = generation;
-        publishedOnce = false;
-        lastSnapshotCost = 0;
-      }
-      method->setInspectedPixel(inspectX, inspectY);
-      const bool stepping = stepsLeft > 0;
-      arena.execute([&] {
-        method->runRound(&cancelRound_);
-        if (cancelRound_) return;
-        // A reconstruction costs far more than a short round: publish (and reconstruct) the
-        // first round, the last, a stepped one, and otherwise at most a few times a second and
-        // never more often than the last snapshot's own cost allows (it stays below tracing).
-        const double sincePublish =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - lastPublish).count();
-        const bool due = !publishedOnce || stepping || method->done() ||
-                         sincePublish >= std::max(kMinPublishInterval, lastSnapshotCost);
-        if (!due) return;
-        const auto snapshotStart = std::chrono::steady_clock::now();
-        snapshot = method->snapshot(true, &cancelRound_);
-        lastSnapshotCost =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - snapshotStart).count();
-        lastPublish = std::chrono::steady_clock::now();
-        publishedOnce = true;
-        if (cancelRound_) snapshot.reset();  // cut short: it belongs to the old method
-      });
-      if (snapshot && inspectX >= 0)
-        inspection = std::make_shared<PixelInspection>(method->inspect(inspectX, inspectY));
-      finished = method->done();
-    } catch (const std::exception& e) {
-      failure = e.what();
+      w.arena.execute([&] { snapshot = w.method->snapshot(true, &cancelRound_); });
+    } catch (const std::exception&) {
+      snapshot.reset();  // the next round reports the failure
     }
-
     lock.lock();
-    if (generation != generation_) {
-      // Restarted or cancelled meanwhile: this round's result belongs to the old method,
-      // which goes once the next one has shown something.
-      lock.unlock();
-      retire();
-      lock.lock();
-      continue;
-    }
-    if (!failure.empty()) {
-      state_ = State::Failed;
-      error_ = failure;
-      lock.unlock();
-      drop();
-      lock.lock();
-      idle_.notify_all();
-      continue;
-    }
-    const bool published = snapshot != nullptr;
-    // A round whose snapshot the throttle skipped is published once the session pauses, so
-    // a paused view shows every sample traced (and a step then adds exactly one round).
-    publishPending_ = !published && !finished;
-    if (snapshot) {
+    if (snapshot && generation == generation_ && !cancelRound_) {
       latest_ = std::move(snapshot);
       latestGeneration_ = generation;
       ++version_;
     }
-    if (inspection && inspectX == inspectX_ && inspectY == inspectY_) {
-      inspection_ = std::move(inspection);
+  }
+  publishPending_ = false;
+  idle_.notify_all();
+  // Only an inspection was asked for, between rounds.
+  if (w.methodGeneration == generation_ && w.method)
+    takeInspection(w, lock);
+  else
+    inspectPending_ = false;
+}
+
+RenderSession::RoundResult RenderSession::runRound(Worker& w, const RoundRequest& request) {
+  RoundResult r;
+  try {
+    if (!w.method || w.methodGeneration != request.generation) {
+      w.retire();
+      w.activeFactory = request.factory;
+      w.method = w.activeFactory();
+      w.methodGeneration = request.generation;
+      w.publishedOnce = false;
+      w.lastSnapshotCost = 0;
+    }
+    ProgressiveMethod& method = *w.method;
+    method.setInspectedPixel(request.inspectX, request.inspectY);
+    const bool stepping = request.stepsLeft > 0;
+    w.arena.execute([&] {
+      method.runRound(&cancelRound_);
+      if (cancelRound_) return;
+      // A reconstruction costs far more than a short round: publish (and reconstruct) the
+      // first round, the last, a stepped one, and otherwise at most a few times a second and
+      // never more often than the last snapshot's own cost allows (it stays below tracing).
+      const double sincePublish =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - w.lastPublish).count();
+      const bool due = !w.publishedOnce || stepping || method.done() ||
+                       sincePublish >= std::max(kMinPublishInterval, w.lastSnapshotCost);
+      if (!due) return;
+      const auto snapshotStart = std::chrono::steady_clock::now();
+      r.snapshot = method.snapshot(true, &cancelRound_);
+      w.lastSnapshotCost =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - snapshotStart).count();
+      w.lastPublish = std::chrono::steady_clock::now();
+      w.publishedOnce = true;
+      if (cancelRound_) r.snapshot.reset();  // cut short: it belongs to the old method
+    });
+    if (r.snapshot && request.inspectX >= 0)
+      r.inspection =
+          std::make_shared<PixelInspection>(method.inspect(request.inspectX, request.inspectY));
+    r.finished = method.done();
+  } catch (const std::exception& e) {
+    r.failure = e.what();
+  }
+  return r;
+}
+
+void RenderSession::worker() {
+  Worker w(threads_);
+  std::unique_ptr<BackgroundObserver> observer;
+  if (background_) {
+    lowerThreadPriority();
+    observer = std::make_unique<BackgroundObserver>(w.arena);
+  }
+  std::unique_lock lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [&] {
+      return quit_ || state_ == State::Running || (inspectPending_ && w.method) || publishPending_;
+    });
+    if (quit_) return;
+    if (state_ != State::Running) {
+      serveIdle(w, lock);
+      continue;
+    }
+    if (stepsLeft_ == 0) {
+      state_ = State::Paused;
+      idle_.notify_all();
+      continue;
+    }
+    const RoundRequest request{generation_, factory_, inspectX_, inspectY_, stepsLeft_};
+    cancelRound_ = false;
+    lock.unlock();
+    RoundResult r = runRound(w, request);
+    lock.lock();
+    if (request.generation != generation_) {
+      // Restarted or cancelled meanwhile: this round's result belongs to the old method,
+      // which goes once the next one has shown something.
+      lock.unlock();
+      w.retire();
+      lock.lock();
+      continue;
+    }
+    if (!r.failure.empty()) {
+      state_ = State::Failed;
+      error_ = r.failure;
+      lock.unlock();
+      w.drop();
+      lock.lock();
+      idle_.notify_all();
+      continue;
+    }
+    const bool published = r.snapshot != nullptr;
+    // A round whose snapshot the throttle skipped is published once the session pauses, so
+    // a paused view shows every sample traced (and a step then adds exactly one round).
+    publishPending_ = !published && !r.finished;
+    if (published) {
+      latest_ = std::move(r.snapshot);
+      latestGeneration_ = request.generation;
+      ++version_;
+    }
+    if (r.inspection && request.inspectX == inspectX_ && request.inspectY == inspectY_) {
+      inspection_ = std::move(r.inspection);
       ++inspectionVersion_;
       inspectPending_ = false;
     }
-    if (finished) {
+    if (r.finished) {
       state_ = State::Finished;
       idle_.notify_all();
     } else if (stepsLeft_ > 0) {
       --stepsLeft_;
     }
-    if (published && !retired.empty()) {
+    if (published && !w.retired.empty()) {
       lock.unlock();
-      retired.clear();
+      w.retired.clear();
       lock.lock();
     }
   }

@@ -65,7 +65,28 @@ class RenderSession {
   bool wait(double timeoutSeconds = 1e30);
 
  private:
+  struct Worker;
+  // What a round of the worker needs from the session, read under the lock.
+  struct RoundRequest {
+    uint64_t generation;
+    MethodFactory factory;
+    int inspectX, inspectY;
+    int stepsLeft;
+  };
+  struct RoundResult {
+    std::shared_ptr<Snapshot> snapshot;  // null when the publishing rule skipped it
+    std::shared_ptr<PixelInspection> inspection;
+    bool finished = false;
+    std::string failure;
+  };
   void worker();
+  // Without the lock: (re)makes the method when the generation changed, runs one round and
+  // takes its snapshot when the publishing rule says so.
+  RoundResult runRound(Worker& worker, const RoundRequest& request);
+  // With the lock held (released while the method works): a paused or finished session
+  // publishes the round the throttle skipped, and takes an inspection asked for.
+  void serveIdle(Worker& worker, std::unique_lock<std::mutex>& lock);
+  void takeInspection(Worker& worker, std::unique_lock<std::mutex>& lock);
 
   int threads_;
   bool background_;
