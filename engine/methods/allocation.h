@@ -48,15 +48,15 @@ struct AllocationConfig {
 // The parameters every baseline shares, for its own table (params.h).
 const ParamTable<AllocationConfig>& allocationParams();
 
-// A baseline's descriptor (methods/method.h): the framework's maps (with `extraMaps`), its
-// abilities (it keeps each pixel's variance, adapts and estimates its error; `filters` when the
-// criterion reconstructs) and checks, with the criterion's name, description, table and maker.
-template <typename Config>
-MethodDefinition<Config> allocationDefinition(
-    std::string name, std::string description, const ParamTable<Config>& params,
-    std::unique_ptr<ProgressiveMethod> (*make)(const PreparedScene&, const RunShape&,
-                                               const Config&),
-    bool filters = false, std::vector<const MapKind*> extraMaps = {}) {
+// A baseline's descriptor (methods/method.h) for its AllocationMethod `Method`: the framework's
+// maps (with `extraMaps`), its abilities (it keeps each pixel's variance, adapts and estimates
+// its error; `filters` when the criterion reconstructs) and checks, with the criterion's name,
+// description and table.
+template <typename Method, typename Config>
+MethodDefinition<Config> allocationDefinition(std::string name, std::string description,
+                                              const ParamTable<Config>& params,
+                                              bool filters = false,
+                                              std::vector<const MapKind*> extraMaps = {}) {
   std::vector<const MapKind*> kinds = {&maps::ErrorEstimate, &maps::Selected, &maps::SampleCount,
                                        &maps::TracedCount};
   kinds.insert(kinds.end(), extraMaps.begin(), extraMaps.end());
@@ -69,7 +69,7 @@ MethodDefinition<Config> allocationDefinition(
                 return MethodAbilities{true, filters, true, true};
               },
           .check = [](const Config& c, const RunShape& shape) { return c.check(shape); },
-          .make = make};
+          .make = construct<Method, Config>};
 }
 
 namespace adaptive {

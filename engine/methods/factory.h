@@ -58,6 +58,15 @@ std::string validate(const MethodSpec& spec);
 // Throws std::invalid_argument with validate()'s message: what a method's own make function
 // calls when a test makes the method directly.
 void requireValid(const MethodSpec& spec);
+// A method's own make function (a test makes a method directly): validates the configuration
+// against `descriptor`, then makes `Method`.
+template <typename Method, typename Config>
+std::unique_ptr<ProgressiveMethod> makeValidated(const MethodDescriptor& descriptor,
+                                                 const PreparedScene& prepared,
+                                                 const RunShape& shape, const Config& config) {
+  requireValid({shape, MethodConfig(descriptor, config)});
+  return std::make_unique<Method>(prepared, shape, config);
+}
 // Validates, then makes the method; the scene must outlive it.
 std::unique_ptr<ProgressiveMethod> makeMethod(const PreparedScene& prepared,
                                               const MethodSpec& spec);

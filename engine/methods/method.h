@@ -99,8 +99,15 @@ template <typename Config>
 struct TypedPreset {
   std::string name;  // --preset NAME, compare's NAME:PRESET
   std::string help;  // one line
-  std::function<void(Config&)> apply;
+  std::function<void(Config&)> apply = nullptr;
 };
+
+// `make` for a method whose constructor takes (prepared, shape, config).
+template <typename Method, typename Config>
+std::unique_ptr<ProgressiveMethod> construct(const PreparedScene& prepared, const RunShape& shape,
+                                             const Config& config) {
+  return std::make_unique<Method>(prepared, shape, config);
+}
 
 // What a method's folder writes to describe it; MethodDescriptor erases the type.
 template <typename Config>

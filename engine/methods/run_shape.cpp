@@ -29,7 +29,7 @@ const ParamTable<RunShape>& runShapeParams() {
                            [](auto& s) -> auto& { return s.seed; }, 0, 9007199254740992.0, {0, 1e6})
         .field()
         .scope(runs | kReferenceCommand)
-        .integer("spp", "target spp (0: open)",
+        .integer("spp", "target spp",
                  "Samples per pixel: a batch's budget, or where open-ended rounds stop (0: never; "
                  "default: the scene's render.spp, the viewer's 0)",
                  [](auto& s) -> auto& { return s.spp; }, 0, 1 << 24, {0, 4096})

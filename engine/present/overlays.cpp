@@ -46,10 +46,10 @@ std::vector<const MapKind*> overlayList(const MethodRegistry& methods) {
 }
 
 std::optional<MapId> overlayByName(std::string_view name, const MethodRegistry& methods) {
-  if (name == "none") return MapId();
-  for (const MapKind* o : overlayList(methods))
-    if (name == o->name || (o->alias && name == o->alias)) return MapId(*o);
-  return std::nullopt;
+  const std::optional<MapId> id =
+      name == maps::ReferenceError.name ? MapId(maps::ReferenceError) : methods.mapByName(name);
+  if (!id || (!id->none() && id->kind()->key == 0)) return std::nullopt;  // files only
+  return id;
 }
 
 std::string overlayNames(const MethodRegistry& methods) {

@@ -19,9 +19,19 @@ ImU32 toU32(vec3 srgb, float alpha = 1.0f) {
   return ImGui::ColorConvertFloat4ToU32(ImVec4(srgb.x, srgb.y, srgb.z, alpha));
 }
 
-// One widget for a parameter of a table; true when it changed.
+// One widget for a parameter of a table, its help as the tooltip; true when it changed.
+template <typename Config>
+bool paramControl(const Param<Config>& p, Config& config);
+
 template <typename Config>
 bool paramWidget(const Param<Config>& p, Config& config) {
+  const bool changed = paramControl(p, config);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.help.c_str());
+  return changed;
+}
+
+template <typename Config>
+bool paramControl(const Param<Config>& p, Config& config) {
   const char* label = p.label.c_str();
   const ImGuiSliderFlags scale = p.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
   const auto accept = [&](double v) {

@@ -101,17 +101,12 @@ class CyclesMethod final : public AllocationMethod {
 std::unique_ptr<ProgressiveMethod> makeCyclesMethod(const PreparedScene& prepared,
                                                     const RunShape& shape,
                                                     const CyclesConfig& config) {
-  requireValid({shape, MethodConfig(cyclesMethod(), config)});
-  return std::make_unique<CyclesMethod>(prepared, shape, config);
+  return makeValidated<CyclesMethod>(cyclesMethod(), prepared, shape, config);
 }
 
 const MethodDescriptor& cyclesMethod() {
-  static const MethodDescriptor descriptor(allocationDefinition<CyclesConfig>(
-      "cycles", "Cycles half-buffer error (Dammertz et al. 2010)", cyclesParams(),
-      [](const PreparedScene& prepared, const RunShape& shape,
-         const CyclesConfig& config) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<CyclesMethod>(prepared, shape, config);
-      }));
+  static const MethodDescriptor descriptor(allocationDefinition<CyclesMethod, CyclesConfig>(
+      "cycles", "Cycles half-buffer error (Dammertz et al. 2010)", cyclesParams()));
   return descriptor;
 }
 

@@ -95,17 +95,12 @@ class FDivMethod final : public AllocationMethod {
 
 std::unique_ptr<ProgressiveMethod> makeFDivMethod(const PreparedScene& prepared,
                                                   const RunShape& shape, const FDivConfig& config) {
-  requireValid({shape, MethodConfig(fdivMethod(), config)});
-  return std::make_unique<FDivMethod>(prepared, shape, config);
+  return makeValidated<FDivMethod>(fdivMethod(), prepared, shape, config);
 }
 
 const MethodDescriptor& fdivMethod() {
-  static const MethodDescriptor descriptor(allocationDefinition<FDivConfig>(
-      "fdiv", "F-divergence, Hellinger (Rigau et al. 2003)", fdivParams(),
-      [](const PreparedScene& prepared, const RunShape& shape,
-         const FDivConfig& config) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<FDivMethod>(prepared, shape, config);
-      }));
+  static const MethodDescriptor descriptor(allocationDefinition<FDivMethod, FDivConfig>(
+      "fdiv", "F-divergence, Hellinger (Rigau et al. 2003)", fdivParams()));
   return descriptor;
 }
 

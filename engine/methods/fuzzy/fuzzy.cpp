@@ -108,17 +108,12 @@ class FuzzyMethod final : public AllocationMethod {
 std::unique_ptr<ProgressiveMethod> makeFuzzyMethod(const PreparedScene& prepared,
                                                    const RunShape& shape,
                                                    const FuzzyConfig& config) {
-  requireValid({shape, MethodConfig(fuzzyMethod(), config)});
-  return std::make_unique<FuzzyMethod>(prepared, shape, config);
+  return makeValidated<FuzzyMethod>(fuzzyMethod(), prepared, shape, config);
 }
 
 const MethodDescriptor& fuzzyMethod() {
-  static const MethodDescriptor descriptor(allocationDefinition<FuzzyConfig>(
-      "fuzzy", "Fuzzy uncertainty (re-implemented, after Xu et al. 2008)", fuzzyParams(),
-      [](const PreparedScene& prepared, const RunShape& shape,
-         const FuzzyConfig& config) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<FuzzyMethod>(prepared, shape, config);
-      }));
+  static const MethodDescriptor descriptor(allocationDefinition<FuzzyMethod, FuzzyConfig>(
+      "fuzzy", "Fuzzy uncertainty (re-implemented, after Xu et al. 2008)", fuzzyParams()));
   return descriptor;
 }
 

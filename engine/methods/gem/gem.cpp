@@ -331,18 +331,12 @@ class GemMethod final : public AllocationMethod {
 
 std::unique_ptr<ProgressiveMethod> makeGemMethod(const PreparedScene& prepared,
                                                  const RunShape& shape, const GemConfig& config) {
-  requireValid({shape, MethodConfig(gemMethod(), config)});
-  return std::make_unique<GemMethod>(prepared, shape, config);
+  return makeValidated<GemMethod>(gemMethod(), prepared, shape, config);
 }
 
 const MethodDescriptor& gemMethod() {
-  static const MethodDescriptor descriptor(allocationDefinition<GemConfig>(
-      "gem", "GEM (Rousselle et al. 2011)", gemParams(),
-      [](const PreparedScene& prepared, const RunShape& shape,
-         const GemConfig& config) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<GemMethod>(prepared, shape, config);
-      },
-      true, {&maps::FilterScale}));
+  static const MethodDescriptor descriptor(allocationDefinition<GemMethod, GemConfig>(
+      "gem", "GEM (Rousselle et al. 2011)", gemParams(), true, {&maps::FilterScale}));
   return descriptor;
 }
 

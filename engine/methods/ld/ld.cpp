@@ -167,8 +167,7 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
 
 std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
                                                 const RunShape& shape, const LdConfig& config) {
-  requireValid({shape, MethodConfig(ldMethod(), config)});
-  return std::make_unique<LdMethod>(prepared, shape, config);
+  return makeValidated<LdMethod>(ldMethod(), prepared, shape, config);
 }
 
 const MethodDescriptor& ldMethod() {
