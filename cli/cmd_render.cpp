@@ -110,10 +110,8 @@ void prepareOutputs(const RenderFlags& flags) {
   if (!can.keepsVariance && !flags.variancePath.empty())
     throw CommandError("--variance-out needs a method that keeps each pixel's variance: " +
                        method.title() + " does not");
-  if (flags.run.has("noise-threshold") && !flags.run.has("time-limit") && !can.estimatesError)
-    throw CommandError("--noise-threshold: " + method.title() + " (" + howToChoose(method) +
-                       ") has no error estimate to stop on; choose a method that estimates its "
-                       "error, or give --time-limit or --spp instead");
+  requireNoiseThresholdHonoured(method, flags.method.config(method, flags.method.preset),
+                                flags.run.has("noise-threshold"), flags.run.has("time-limit"));
   for (const std::string* path :
        {&flags.output, &flags.statsPath, &flags.variancePath, &flags.rawPath})
     if (!path->empty()) createParentDirectory(*path);

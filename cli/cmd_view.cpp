@@ -88,6 +88,8 @@ ViewOptions makeOptions(const ViewFlags& f) {
   for (const MethodDescriptor* m : o.methods->methods())
     o.configs.push_back(f.method.config(*m, f.method.preset));
   if (const std::string problem = validate(o.spec()); !problem.empty()) throw CommandError(problem);
+  requireNoiseThresholdHonoured(*o.method, o.config(), o.shape.noiseThreshold > 0,
+                                o.shape.timeLimit > 0);
   o.threads = f.threads;
   const auto overlay = overlayByName(f.overlay, *o.methods);
   if (!overlay)

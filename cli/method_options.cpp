@@ -52,6 +52,14 @@ std::string howToChoose(const MethodDescriptor& method) {
   return text;
 }
 
+void requireNoiseThresholdHonoured(const MethodDescriptor& method, const MethodConfig& config,
+                                   bool noiseThreshold, bool timeLimit) {
+  if (noiseThreshold && !timeLimit && !method.abilities(config).estimatesError)
+    throw CommandError("--noise-threshold: " + method.title() + " (" + howToChoose(method) +
+                       ") has no error estimate to stop on; choose a method that estimates its "
+                       "error, or give --time-limit or --spp instead");
+}
+
 void addMethodOptions(CLI::App& c, MethodOptions& o, const std::set<std::string>& skip) {
   const MethodRegistry& registry = *o.registry;
   c.add_option("--method", o.method, methodHelp(registry))

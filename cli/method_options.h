@@ -41,6 +41,11 @@ struct MethodOptions {
 void addMethodOptions(CLI::App& command, MethodOptions& options,
                       const std::set<std::string>& skip = {});
 
+// Throws CommandError when a noise threshold would be a run's only stopping rule (no time
+// limit) and the method has no error estimate to stop on: the run would never end.
+void requireNoiseThresholdHonoured(const MethodDescriptor& method, const MethodConfig& config,
+                                   bool noiseThreshold, bool timeLimit);
+
 // "--preset consistent" or "--method ld": what a user types to get `method`.
 std::string howToChoose(const MethodDescriptor& method);
 

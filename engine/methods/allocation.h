@@ -84,7 +84,7 @@ struct LuminanceSums {
 
 }  // namespace adaptive
 
-// ---- The framework, for the criteria (allocation.cpp, gem_method.cpp) ----------------
+// ---- The framework, for the criteria (fdiv/, fuzzy/, gem/, cycles/) -----------------
 
 struct PlannedSample {
   uint32_t pixel = 0;  // where it lands

@@ -175,6 +175,7 @@ expect_fail "variance out needs a variance" "--variance-out needs a method that 
 expect_fail "paper flag on the consistent preset" "--no-warping: bp's consistent algorithm does not read it; it is read by bp's paper algorithm (--preset paper or tuned)" "$penumbra" render "$cornell" --method bp --size 16x16 -o "$work/x.png" --no-warping
 expect_fail "bp flag on ld" "--nit: ld does not read it" "$penumbra" render "$cornell" --size 16x16 -o "$work/x.png" --nit 5
 expect_fail "noise threshold needs an estimate" "--noise-threshold: bp's paper algorithm (--preset paper or tuned) has no error estimate" "$penumbra" render "$cornell" --method bp --preset paper --size 16x16 -o "$work/x.png" --noise-threshold 0.01
+expect_fail "view noise threshold needs an estimate" "--noise-threshold: bp's paper algorithm (--preset paper or tuned) has no error estimate" env -u DISPLAY "$penumbra" view "$cornell" --headless --method bp --preset tuned --size 16x16 --noise-threshold 0.01 --screenshot "$work/x.png"
 # Every baseline stops on the noise threshold, with its variance written.
 for m in gem fdiv cycles; do
   expect_ok "noise threshold $m" "$penumbra" render "$cornell" --method $m --size 16x16 --noise-threshold 0.05 -o "$work/nt_$m.exr" --variance-out "$work/nt_${m}_var.exr" --stats "$work/nt_$m.json" -q

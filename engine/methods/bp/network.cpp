@@ -15,7 +15,7 @@
 
 namespace penumbra {
 
-// The per-ISA kernels (bp_network_kernel.inc compiled three times).
+// The per-ISA kernels (network_kernel.inc compiled three times).
 #define PENUMBRA_BP_DECLARE_ISA(NS)                                                            \
   namespace NS {                                                                               \
   int laneCount();                                                                             \

@@ -1,5 +1,5 @@
 // The BP-network training kernel for AVX-512 (F, VL, DQ), 16 lanes. CMake gives this file its
-// instruction-set flags; bp_network.cpp calls it only when the CPU has them.
+// instruction-set flags; network.cpp calls it only when the CPU has them.
 #include <immintrin.h>
 
 #include <cstdint>
