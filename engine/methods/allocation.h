@@ -60,16 +60,15 @@ MethodDefinition<Config> allocationDefinition(std::string name, std::string desc
   std::vector<const MapKind*> kinds = {&maps::ErrorEstimate, &maps::Selected, &maps::SampleCount,
                                        &maps::TracedCount};
   kinds.insert(kinds.end(), extraMaps.begin(), extraMaps.end());
-  return {.name = std::move(name),
-          .description = std::move(description),
-          .params = &params,
-          .maps = std::move(kinds),
-          .abilities =
-              [filters](const Config&) {
-                return MethodAbilities{true, filters, true, true};
-              },
-          .check = [](const Config& c, const RunShape& shape) { return c.check(shape); },
-          .make = construct<Method, Config>};
+  MethodDefinition<Config> d;
+  d.name = std::move(name);
+  d.description = std::move(description);
+  d.params = &params;
+  d.maps = std::move(kinds);
+  d.abilities = [filters](const Config&) { return MethodAbilities{true, filters, true, true}; };
+  d.check = [](const Config& c, const RunShape& shape) { return c.check(shape); };
+  d.make = construct<Method, Config>;
+  return d;
 }
 
 namespace adaptive {

@@ -99,7 +99,7 @@ template <typename Config>
 struct TypedPreset {
   std::string name;  // --preset NAME, compare's NAME:PRESET
   std::string help;  // one line
-  std::function<void(Config&)> apply = nullptr;
+  std::function<void(Config&)> apply;
 };
 
 // `make` for a method whose constructor takes (prepared, shape, config).

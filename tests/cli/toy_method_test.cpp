@@ -93,22 +93,21 @@ class ToyMethod final : public ProgressiveMethod {
 };
 
 const MethodDescriptor& toyMethod() {
-  static const MethodDescriptor descriptor(MethodDefinition<ToyConfig>{
-      .name = "toy",
-      .description = "A toy method (the tests' own)",
-      .params = &toyParams(),
-      .presets = {{"bright", "twice the gain", [](ToyConfig& c) { c.gain = 2.0f; }}},
-      .maps = {&kToyRamp, &maps::Selected, &maps::SampleCount, &maps::TracedCount},
-      .abilities = [](const ToyConfig&) { return MethodAbilities{}; },
-      .check =
-          [](const ToyConfig& c, const RunShape&) {
-            return c.glow && c.gain == 0 ? std::string("--toy-glow needs --toy-gain above 0")
-                                         : std::string();
-          },
-      .make = [](const PreparedScene& prepared, const RunShape& shape,
-                 const ToyConfig& c) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<ToyMethod>(prepared, shape, c);
-      }});
+  static const MethodDescriptor descriptor([] {
+    MethodDefinition<ToyConfig> d;
+    d.name = "toy";
+    d.description = "A toy method (the tests' own)";
+    d.params = &toyParams();
+    d.presets = {{"bright", "twice the gain", [](ToyConfig& c) { c.gain = 2.0f; }}};
+    d.maps = {&kToyRamp, &maps::Selected, &maps::SampleCount, &maps::TracedCount};
+    d.abilities = [](const ToyConfig&) { return MethodAbilities{}; };
+    d.check = [](const ToyConfig& c, const RunShape&) {
+      return c.glow && c.gain == 0 ? std::string("--toy-glow needs --toy-gain above 0")
+                                   : std::string();
+    };
+    d.make = construct<ToyMethod, ToyConfig>;
+    return d;
+  }());
   return descriptor;
 }
 

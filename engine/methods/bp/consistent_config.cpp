@@ -55,27 +55,30 @@ const ParamTable<BpConsistentConfig>& bpConsistentParams() {
 }
 
 const MethodDescriptor& bpConsistentMethod() {
-  static const MethodDescriptor descriptor(MethodDefinition<BpConsistentConfig>{
-      .name = "bp",
-      .algorithm = "consistent",
-      .description = "BP networks (the paper's method)",
-      .params = &bpConsistentParams(),
-      .presets = {{"consistent",
-                   "the consistent reconstruction of the film and samples where its estimated "
-                   "error falls most (the networks off: --network-weight turns them on)"}},
-      .maps = {&maps::ErrorEstimate, &maps::Selected, &maps::FilterScale, &maps::SampleCount,
-               &maps::TracedCount, &maps::NetworkError, &maps::Prediction, &maps::Albedo,
-               &maps::Normal, &maps::Depth, &maps::Emission, &maps::RawError},
-      .abilities =
-          [](const BpConsistentConfig& c) {
-            return MethodAbilities{true, c.reconstruct, true, true};
-          },
-      .check = [](const BpConsistentConfig& c, const RunShape& shape) { return c.check(shape); },
-      .make = [](const PreparedScene& prepared, const RunShape& shape,
-                 const BpConsistentConfig& c) -> std::unique_ptr<ProgressiveMethod> {
-        return makeBpConsistentMethod(prepared, shape, c);
-      },
-      .withoutReconstruction = [](BpConsistentConfig& c) { c.reconstruct = false; }});
+  static const MethodDescriptor descriptor([] {
+    MethodDefinition<BpConsistentConfig> d;
+    d.name = "bp";
+    d.algorithm = "consistent";
+    d.description = "BP networks (the paper's method)";
+    d.params = &bpConsistentParams();
+    d.presets = {{"consistent",
+                  "the consistent reconstruction of the film and samples where its estimated "
+                  "error falls most (the networks off: --network-weight turns them on)",
+                  nullptr}};
+    d.maps = {&maps::ErrorEstimate, &maps::Selected,     &maps::FilterScale, &maps::SampleCount,
+              &maps::TracedCount,   &maps::NetworkError, &maps::Prediction,  &maps::Albedo,
+              &maps::Normal,        &maps::Depth,        &maps::Emission,    &maps::RawError};
+    d.abilities = [](const BpConsistentConfig& c) {
+      return MethodAbilities{true, c.reconstruct, true, true};
+    };
+    d.check = [](const BpConsistentConfig& c, const RunShape& shape) { return c.check(shape); };
+    d.make = [](const PreparedScene& prepared, const RunShape& shape,
+                const BpConsistentConfig& c) -> std::unique_ptr<ProgressiveMethod> {
+      return makeBpConsistentMethod(prepared, shape, c);
+    };
+    d.withoutReconstruction = [](BpConsistentConfig& c) { c.reconstruct = false; };
+    return d;
+  }());
   return descriptor;
 }
 

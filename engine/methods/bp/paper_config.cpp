@@ -94,35 +94,39 @@ const ParamTable<BpPaperConfig>& bpPaperParams() {
 }
 
 const MethodDescriptor& bpPaperMethod() {
-  static const MethodDescriptor descriptor(MethodDefinition<BpPaperConfig>{
-      .name = "bp",
-      .algorithm = "paper",
-      .description = "BP networks (the paper's method)",
-      .params = &bpPaperParams(),
-      .presets =
-          {{"paper", "ALGORITHM.md's recommended resolutions of the paper"},
-           {"tuned",
-            "the paper's rounds without candidate choice (it biases towards the slice's majority "
-            "value) or warping, the plain pixel mean (the stratified mean of few samples per "
-            "slice loses the lens/time stratification), sigma_c 0.05 (0.3 blurs texture)",
-            [](BpPaperConfig& c) {
-              c.outlierRemoval = false;
-              c.warping = false;
-              c.stratifiedMean = false;
-              c.filter.sigmaC = 0.05f;
-            }}},
-      .maps = {&maps::ErrorEstimate, &maps::Selected, &maps::FilterScale, &maps::SampleCount,
-               &maps::TracedCount, &maps::NetworkError, &maps::Prediction, &maps::SliceB,
-               &maps::SliceC},
-      // No variance of the mean, and its bias is no error estimate to stop on.
-      .abilities =
-          [](const BpPaperConfig& c) {
-            return MethodAbilities{false, c.reconstruct, true, false};
-          },
-      .check = [](const BpPaperConfig& c, const RunShape& shape) { return c.check(shape); },
-      .make = [](const PreparedScene& prepared, const RunShape& shape, const BpPaperConfig& c)
-          -> std::unique_ptr<ProgressiveMethod> { return makeBpPaperMethod(prepared, shape, c); },
-      .withoutReconstruction = [](BpPaperConfig& c) { c.reconstruct = false; }});
+  static const MethodDescriptor descriptor([] {
+    MethodDefinition<BpPaperConfig> d;
+    d.name = "bp";
+    d.algorithm = "paper";
+    d.description = "BP networks (the paper's method)";
+    d.params = &bpPaperParams();
+    d.presets = {
+        {"paper", "ALGORITHM.md's recommended resolutions of the paper", nullptr},
+        {"tuned",
+         "the paper's rounds without candidate choice (it biases towards the slice's majority "
+         "value) or warping, the plain pixel mean (the stratified mean of few samples per "
+         "slice loses the lens/time stratification), sigma_c 0.05 (0.3 blurs texture)",
+         [](BpPaperConfig& c) {
+           c.outlierRemoval = false;
+           c.warping = false;
+           c.stratifiedMean = false;
+           c.filter.sigmaC = 0.05f;
+         }}};
+    d.maps = {&maps::ErrorEstimate, &maps::Selected,    &maps::FilterScale,
+              &maps::SampleCount,   &maps::TracedCount, &maps::NetworkError,
+              &maps::Prediction,    &maps::SliceB,      &maps::SliceC};
+    // No variance of the mean, and its bias is no error estimate to stop on.
+    d.abilities = [](const BpPaperConfig& c) {
+      return MethodAbilities{false, c.reconstruct, true, false};
+    };
+    d.check = [](const BpPaperConfig& c, const RunShape& shape) { return c.check(shape); };
+    d.make = [](const PreparedScene& prepared, const RunShape& shape,
+                const BpPaperConfig& c) -> std::unique_ptr<ProgressiveMethod> {
+      return makeBpPaperMethod(prepared, shape, c);
+    };
+    d.withoutReconstruction = [](BpPaperConfig& c) { c.reconstruct = false; };
+    return d;
+  }());
   return descriptor;
 }
 

@@ -171,26 +171,23 @@ std::unique_ptr<ProgressiveMethod> makeLdMethod(const PreparedScene& prepared,
 }
 
 const MethodDescriptor& ldMethod() {
-  static const MethodDescriptor descriptor(MethodDefinition<LdConfig>{
-      .name = "ld",
-      .description = "Low discrepancy (box filter)",
-      .params = &ldParams(),
-      .presets = {{"filtered",
-                   "the consistent reconstruction of the film: the ablation that separates what "
-                   "adaptive sampling adds from what the filter adds",
-                   [](LdConfig& c) { c.filter = true; }}},
-      .maps = {&maps::ErrorEstimate, &maps::Selected, &maps::FilterScale, &maps::SampleCount,
-               &maps::TracedCount, &maps::Albedo, &maps::Normal, &maps::Depth, &maps::Emission,
-               &maps::RawError},
-      .abilities =
-          [](const LdConfig& c) {
-            return MethodAbilities{true, c.filter, false, true};
-          },
-      .check = [](const LdConfig& c, const RunShape&) { return recon::validate(c.denoise); },
-      .make = [](const PreparedScene& prepared, const RunShape& shape,
-                 const LdConfig& config) -> std::unique_ptr<ProgressiveMethod> {
-        return std::make_unique<LdMethod>(prepared, shape, config);
-      }});
+  static const MethodDescriptor descriptor([] {
+    MethodDefinition<LdConfig> d;
+    d.name = "ld";
+    d.description = "Low discrepancy (box filter)";
+    d.params = &ldParams();
+    d.presets = {{"filtered",
+                  "the consistent reconstruction of the film: the ablation that separates what "
+                  "adaptive sampling adds from what the filter adds",
+                  [](LdConfig& c) { c.filter = true; }}};
+    d.maps = {&maps::ErrorEstimate, &maps::Selected, &maps::FilterScale, &maps::SampleCount,
+              &maps::TracedCount,   &maps::Albedo,   &maps::Normal,      &maps::Depth,
+              &maps::Emission,      &maps::RawError};
+    d.abilities = [](const LdConfig& c) { return MethodAbilities{true, c.filter, false, true}; };
+    d.check = [](const LdConfig& c, const RunShape&) { return recon::validate(c.denoise); };
+    d.make = construct<LdMethod, LdConfig>;
+    return d;
+  }());
   return descriptor;
 }
 
