@@ -43,7 +43,8 @@ void addParamFlag(CLI::App& command, const Param<Config>& p, GivenFlag& given,
   else if (p.kind == ParamKind::Choice)
     option->expected(1)->type_name("TEXT")->check(CLI::IsMember(p.choices));
   else if (p.kind == ParamKind::Int)
-    option->expected(1)->type_name("INT")->check(CLI::Range(p.min, p.max));
+    option->expected(1)->type_name("INT")->check(
+        CLI::Range(static_cast<long long>(p.min), static_cast<long long>(p.max)));
   else
     option->expected(1)->type_name("FLOAT")->check(CLI::Range(p.min, p.max));
   given.option = option;
