@@ -17,6 +17,8 @@
 
 namespace penumbra {
 
+// The flags given refer to the command's options: a MethodOptions is read while its CLI::App
+// lives.
 struct MethodOptions {
   const MethodRegistry* registry = &builtinMethods();
   std::string method = "ld";

@@ -13,7 +13,8 @@
 
 namespace penumbra {
 
-// A flag as given on the command line.
+// A flag as given on the command line (its option is the command's: valid while the CLI::App
+// lives).
 struct GivenFlag {
   std::vector<std::string> values;  // a list's elements, or the one value
   bool flag = false;                // a toggle's flag was given

@@ -11,15 +11,29 @@
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
+#include <vector>
+
 namespace penumbra {
 namespace {
 
-MethodOptions parsed(const std::string& line) {
+// The options refer to the command's flags: they live together.
+struct Parsed {
   CLI::App app;
   MethodOptions options;
-  addMethodOptions(app, options);
-  app.parse(line);
-  return options;
+};
+
+std::unique_ptr<Parsed> parse(const std::string& line) {
+  auto p = std::make_unique<Parsed>();
+  addMethodOptions(p->app, p->options);
+  p->app.parse(line);
+  return p;
+}
+
+const MethodOptions& parsed(const std::string& line) {
+  static std::vector<std::unique_ptr<Parsed>> kept;
+  kept.push_back(parse(line));
+  return kept.back()->options;
 }
 
 std::string errorOf(const MethodOptions& options) {
@@ -60,7 +74,7 @@ TEST(MethodOptions, AFlagTheChosenAlgorithmDoesNotReadIsAnErrorNamingIt) {
 }
 
 TEST(MethodOptions, AFlagSetsEveryMethodThatReadsIt) {
-  const MethodOptions options = parsed("--nl-k 0.5 --nit 9");
+  const MethodOptions& options = parsed("--nl-k 0.5 --nit 9");
   EXPECT_FLOAT_EQ(options.config(ldMethod(), "").as<LdConfig>().denoise.k, 0.5f);
   const MethodConfig consistent = options.config(bpConsistentMethod(), "");
   EXPECT_FLOAT_EQ(consistent.as<BpConsistentConfig>().denoise.k, 0.5f);
