@@ -51,25 +51,17 @@ RunShape renderShape(const RenderFlags& flags, const Scene& scene) {
   return shape;
 }
 
-std::string samplerName(const RunShape& shape) {
-  for (const Param<RunShape>& p : runShapeParams().params())
-    if (p.name == "sampler") return formatParam(p, shape);
-  return "?";
-}
-
-// The statistics every method reports.
+// The statistics every method reports: the scene, the run's shape (every entry of its table:
+// spp, seed, sampler, ...) and the counts.
 nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, const RunShape& shape,
                            int threads, double seconds, uint64_t rays, uint64_t samples) {
-  nlohmann::json j;
+  nlohmann::json j = paramsJson(runShapeParams().params(), shape);
   j["scene"] = flags.scene.scenePath;
   j["method"] = flags.method.method;
   j["width"] = scene.settings.width;
   j["height"] = scene.settings.height;
-  j["spp"] = shape.spp;
-  j["seed"] = shape.seed;
   j["threads"] = threads;
   j["max_depth"] = scene.settings.maxDepth;
-  j["sampler"] = samplerName(shape);
   j["time_seconds"] = seconds;
   j["rays"] = rays;
   j["mrays_per_second"] = seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0;
@@ -197,18 +189,14 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, con
                   std::to_string(s.settings.height) + " " + std::to_string(shape.spp) + " spp");
   std::vector<nlohmann::json> rounds;
   const double pixels = double(s.settings.width) * s.settings.height;
-  // The kept samples so far, of a batch's budget, show its progress.
-  const bool byBudget = !flags.quiet && !shape.openEnded;
   while (!method->done()) {
     method->runRound(nullptr);
-    if (!flags.statsPath.empty() || byBudget) {
-      const auto probe = method->snapshot(false);
-      if (!flags.statsPath.empty()) rounds.push_back(roundStats(*probe));
-      if (byBudget)
-        bar.update(std::min(1.0, double(probe->keptSamples) / (double(shape.spp) * pixels)));
-    }
-    if (!flags.quiet && shape.timeLimit > 0)
+    if (!flags.statsPath.empty()) rounds.push_back(roundStats(*method->snapshot(false)));
+    if (flags.quiet) continue;
+    if (shape.timeLimit > 0)
       bar.update(std::min(1.0, method->seconds() / shape.timeLimit));
+    else if (const double share = method->budgetShare(); share == share)
+      bar.update(share);
   }
   const auto snap = method->snapshot();
   bar.finish();

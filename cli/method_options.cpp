@@ -110,10 +110,11 @@ void MethodOptions::requireRead(const std::vector<const MethodDescriptor*>& meth
     bool read = false;
     for (const MethodDescriptor* m : methods) read = read || m->param(name);
     if (read) continue;
+    const std::vector<const MethodDescriptor*> readers = registry->readersOf(name);
     std::string by;
-    for (const MethodDescriptor* reader : registry->readersOf(name))
+    for (const MethodDescriptor* reader : readers)
       by += (by.empty() ? "" : "; ") + reader->title() + " (" + howToChoose(*reader) + ")";
-    const MethodParam* p = registry->readersOf(name).front()->param(name);
+    const MethodParam* p = readers.front()->param(name);  // a flag is some method's
     std::string what = methods.size() == 1 ? methods.front()->title() + " does not read it"
                                            : "none of the methods compared reads it";
     throw CommandError(flagOf(*p) + ": " + what + (by.empty() ? "" : "; it is read by " + by));

@@ -3,38 +3,8 @@
 #include "present/snapshot_io.h"
 
 #include <algorithm>
-#include <cstdlib>
 
 namespace penumbra {
-
-nlohmann::json configJson(const MethodConfig& config) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const MethodParam& p : config.method().params()) {
-    const std::string key = p.jsonKey();
-    switch (p.kind) {
-      case ParamKind::Int:
-        j[key] = int(p.get(config));
-        break;
-      case ParamKind::Float:  // as the flag would be written: 0.05, not 0.0500000007
-        j[key] = std::strtod(formatParam(p, config).c_str(), nullptr);
-        break;
-      case ParamKind::Flag:
-        j[key] = p.get(config) != 0;
-        break;
-      case ParamKind::Choice:
-        j[key] = formatParam(p, config);
-        break;
-      case ParamKind::FloatList: {
-        std::vector<double> values;
-        for (float v : p.getList(config))
-          values.push_back(std::strtod(formatBound(v).c_str(), nullptr));
-        j[key] = values;
-        break;
-      }
-    }
-  }
-  return j;
-}
 
 namespace {
 
@@ -107,7 +77,7 @@ nlohmann::json methodRunStats(const MethodSpec& spec, const std::string& preset,
           ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
           : 0.0;
   j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
-  j["config"] = configJson(spec.config);
+  j["config"] = paramsJson(spec.method().params(), spec.config);
   addMethodFigures(j, snap, false);
   for (const SnapshotMap& map : snap.maps)
     if (const MapReport* report = map.id.kind()->report)

@@ -104,6 +104,7 @@ class AllocationMethod : public ProgressiveMethod {
   // The noise threshold (RunShape::noiseThreshold) tests the shown image's estimated relMSE:
   // the mean of shownRelativeError().
   double estimatedError() const override;
+  double budgetShare() const override { return schedule_.share(drawnTotal_); }
   Image rawVarianceOfMean() const override;
   // Per pixel, the estimated relMSE of the image the method shows; the default is the box
   // mean's (its variance of the mean over the mean's luminance squared + 0.01). A pixel

@@ -225,8 +225,12 @@ bool inRange(const Param<Config>& p, double v) {
 template <typename Config>
 std::string rangeText(const Param<Config>& p) {
   if (!p.minOpen && !p.maxOpen) return formatBound(p.min) + ".." + formatBound(p.max);
-  return std::string(p.minOpen ? "(" : "[") + formatBound(p.min) + ", " + formatBound(p.max) +
-         (p.maxOpen ? ")" : "]");
+  std::string text = p.minOpen ? "(" : "[";
+  text += formatBound(p.min);
+  text += ", ";
+  text += formatBound(p.max);
+  text += p.maxOpen ? ")" : "]";
+  return text;
 }
 // "--name": how messages name the parameter (a toggle by its flag).
 template <typename Config>

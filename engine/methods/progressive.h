@@ -141,6 +141,9 @@ class ProgressiveMethod {
   // The mean over pixels of the estimated relMSE of the image the user gets (filtered, for a
   // method that filters), for the noise threshold; NaN for a method without an estimate.
   virtual double estimatedError() const { return NAN; }
+  // The share of its budget spent, 0..1 (a progress bar's); NaN without a budget (open-ended,
+  // no target spp).
+  virtual double budgetShare() const { return NAN; }
   // Wall seconds since the method was made.
   double seconds() const { return secondsSince(start_); }
   const RunShape& shape() const { return shape_; }

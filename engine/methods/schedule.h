@@ -7,6 +7,8 @@
 
 #include "methods/run_shape.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -27,6 +29,11 @@ class RoundSchedule {
   // a bounded share of the time however long the run (the session publishes a few snapshots a
   // second whatever the round length). Batch runs are as roundBudget.
   uint64_t growingRoundBudget(uint64_t spent, int round) const;
+  // The share of the whole budget `spent` is, 0..1; NaN without a budget (open-ended, no target).
+  double share(uint64_t spent) const {
+    const uint64_t total = totalBudget();
+    return total > 0 ? std::min(1.0, double(spent) / double(total)) : NAN;
+  }
   // The whole budget is spent (never, open-ended without the target spp).
   bool finished(uint64_t spent) const;
   int initialSpp() const { return initialSpp_; }

@@ -77,6 +77,7 @@ class ConsistentMethod final : public ProgressiveMethod {
   }
 
   int roundsDone() const override { return s_.rounds; }
+  double budgetShare() const override { return s_.schedule.share(s_.spent); }
   Image rawVarianceOfMean() const override { return film_.varianceOfMeanImage(); }
   double estimatedError() const override {
     if (reconstructedAtRound_ < 0) return NAN;

@@ -44,6 +44,7 @@ class PaperMethod final : public ProgressiveMethod {
   }
 
   int roundsDone() const override { return s_.rounds; }
+  double budgetShare() const override { return s_.schedule.share(s_.spent); }
 
   size_t memoryBytes() const override {
     return s_.store.memoryBytes() + s_.nets.capacity() * sizeof(PixelNet) + s_.selected.capacity();

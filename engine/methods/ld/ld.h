@@ -45,6 +45,7 @@ class LdMethod final : public ProgressiveMethod {
 
   void runRound(const std::atomic<bool>* cancel) override;
   int roundsDone() const override { return rounds_; }
+  double budgetShare() const override { return schedule_.share(drawn_); }
   size_t memoryBytes() const override;
   PixelInspection inspect(int x, int y) const override;
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,

@@ -62,8 +62,11 @@ TEST(MapKinds, OverlaysComeFirstInKeyOrder) {
   EXPECT_NE(std::find(overlays.begin(), overlays.end(), &maps::ReferenceError), overlays.end());
   // The number keys 1-9 reach the first nine; the rest (the film's depth, emission, raw
   // error) are reached by name, from the panel's list or --overlay.
-  for (const MapKind* m : overlays)
-    if (m->key > 9) EXPECT_EQ(overlayByName(m->name), MapId(*m)) << m->name;
+  for (const MapKind* m : overlays) {
+    if (m->key > 9) {
+      EXPECT_EQ(overlayByName(m->name), MapId(*m)) << m->name;
+    }
+  }
 }
 
 // The names users were promised, and the names of before, all parse as overlays.
