@@ -12,6 +12,7 @@
 #include "methods/ld/ld.h"
 #include "methods/render.h"
 #include "present/snapshot_io.h"
+#include "trace/coverage.h"
 #include "trace/integrator.h"
 
 #include <nlohmann/json.hpp>
@@ -125,6 +126,16 @@ void warnNonFinite(uint64_t count) {
                  static_cast<unsigned long long>(count));
 }
 
+// The output image, with an alpha channel saying where the scene is when it is transparent.
+void writeOutput(const RenderFlags& flags, const PreparedScene& prepared, const Image& image) {
+  if (!prepared.scene.transparent) {
+    writeImage(flags.output, image, flags.exposure);
+    return;
+  }
+  const std::vector<float> alpha = cameraCoverage(prepared);
+  writeImage(flags.output, image, flags.exposure, &alpha);
+}
+
 // Plain LD to its end through renderImage (methods/render.h): the same image as its method,
 // with a shard's pixel mask.
 void runLd(const RenderFlags& flags, const PreparedScene& prepared, const RunShape& shape,
@@ -146,7 +157,7 @@ void runLd(const RenderFlags& flags, const PreparedScene& prepared, const RunSha
   const RenderResult result = renderImage(prepared, options);
   bar.finish();
 
-  writeImage(flags.output, result.image, flags.exposure);
+  writeOutput(flags, prepared, result.image);
   if (!flags.variancePath.empty()) writeImage(flags.variancePath, result.varianceOfMean);
   if (!flags.shard.empty()) {
     ShardRecord record;
@@ -202,7 +213,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, con
   bar.finish();
 
   // A method without a reconstruction publishes its raw estimate as the reconstruction.
-  writeImage(flags.output, snap->reconstructed, flags.exposure);
+  writeOutput(flags, prepared, snap->reconstructed);
   if (!flags.rawPath.empty()) writeImage(flags.rawPath, snap->raw, flags.exposure);
   if (!flags.variancePath.empty()) writeImage(flags.variancePath, method->rawVarianceOfMean());
   if (!flags.aovDir.empty()) writeSnapshotMaps(flags.aovDir, *snap);
@@ -260,6 +271,12 @@ void checkShard(RenderFlags& flags) {
 
 void run(RenderFlags flags) {
   if (!flags.shard.empty()) checkShard(flags);
+  if (flags.scene.transparent && !flags.shard.empty())
+    throw CommandError("--transparent: a shard has no alpha channel; render the image whole");
+  if (flags.scene.transparent && lowercaseExtension(flags.output) == ".pfm")
+    throw CommandError("--output " + flags.output +
+                       ": --transparent writes an alpha channel, which PFM cannot hold: use .exr "
+                       "or .png");
   prepareOutputs(flags);
   Scene scene = loadSceneWithOptions(flags.scene);
   if (!flags.region.empty()) applyRegion(flags.region, scene);

@@ -75,7 +75,49 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       ->check(CLI::Range(0.0f, 1e9f));
   c.add_option("--shutter", o.shutter,
                "Shutter interval open,close in scene time [0,1], e.g. 0,1; 0,0 freezes motion");
+  c.add_option("--env", o.environment,
+               "Environment map lighting the scene (equirectangular .exr or .hdr; top row up), or "
+               "'none' to turn off the scene's (a glTF or OBJ file with no lights gets a built-in "
+               "one)");
+  c.add_option("--env-strength", o.environmentStrength, "Multiplies the environment's radiance")
+      ->check(CLI::Range(0.0f, 1e6f));
+  c.add_option("--env-rotation", o.environmentRotation,
+               "Turns the environment about +y, in degrees (right-hand rule: +x towards -z)")
+      ->check(CLI::Range(-1e6f, 1e6f));
+  c.add_flag("--transparent", o.transparent,
+             "Camera rays that leave the scene see nothing (no environment, no background); an "
+             "EXR or PNG output gets an alpha channel saying where the scene is");
 }
+
+namespace {
+void applyEnvironmentOptions(const SceneOptions& o, Scene& scene) {
+  Environment& e = scene.environment;
+  if (o.environment == "none") {
+    e = Environment{};
+  } else if (!o.environment.empty()) {
+    try {
+      e.map = readEnvironmentMap(o.environment);
+    } catch (const SceneError& error) {
+      throw CommandError(std::string("--env ") + error.what());
+    }
+    e.file = o.environment;
+    e.builtin = false;
+    scene.sourceFiles.push_back(o.environment);
+  }
+  if ((o.environmentStrength || o.environmentRotation) && !e.present())
+    throw CommandError(std::string(o.environmentStrength ? "--env-strength" : "--env-rotation") +
+                       ": " + scene.sourcePath + " has no environment to change (give one with "
+                       "--env FILE)");
+  if (o.environmentStrength) e.strength = *o.environmentStrength;
+  if (o.environmentRotation) e.rotationDegrees = *o.environmentRotation;
+  scene.transparent = scene.transparent || o.transparent;
+  if (e.builtin)
+    std::fprintf(stderr,
+                 "note: %s has no lights of its own: the built-in studio environment lights it "
+                 "(--env none turns it off, --env FILE gives another)\n",
+                 scene.sourcePath.c_str());
+}
+}  // namespace
 
 Scene loadSceneWithOptions(const SceneOptions& o) {
   SceneLoadOptions load;
@@ -115,6 +157,7 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
     cam.shutterOpen = s[0];
     cam.shutterClose = s[1];
   }
+  applyEnvironmentOptions(o, scene);
   return scene;
 }
 

@@ -51,6 +51,11 @@ nlohmann::json pixelSettings(const Scene& scene, const SceneOptions& options, in
                  {"lens_radius", c.lensRadius},
                  {"focus_distance", c.focusDistance},
                  {"shutter", {c.shutterOpen, c.shutterClose}}};
+  const Environment& e = scene.environment;
+  j["environment"] = {{"file", e.builtin ? "(built-in)" : e.file},
+                      {"strength", e.strength},
+                      {"rotation", e.rotationDegrees},
+                      {"transparent", scene.transparent}};
   j["gltf_camera"] = options.camera;
   j["frame_time"] = options.frameTime ? nlohmann::json(*options.frameTime) : nlohmann::json();
   j["shutter_seconds"] =

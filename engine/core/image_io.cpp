@@ -552,7 +552,8 @@ void checkWritableImagePath(const std::string& path) {
     fail(path, unsupportedFormat(ext, kWritableFormats));
 }
 
-void writeImage(const std::string& path, const Image& image, float exposureStops) {
+void writeImage(const std::string& path, const Image& image, float exposureStops,
+                const std::vector<float>* alpha) {
   checkWritableImagePath(path);
   const std::string ext = lowercaseExtension(path);
   if (image.width <= 0 || image.height <= 0)
@@ -561,6 +562,10 @@ void writeImage(const std::string& path, const Image& image, float exposureStops
   if (image.pixels.size() != size_t(image.width) * image.height)
     fail(path, "image has " + std::to_string(image.pixels.size()) + " pixels, expected " +
                    std::to_string(image.width) + "x" + std::to_string(image.height));
+  if (alpha && alpha->size() != image.pixels.size())
+    fail(path, "alpha has " + std::to_string(alpha->size()) + " values for " +
+                   std::to_string(image.pixels.size()) + " pixels");
+  if (alpha && ext == ".pfm") fail(path, "a PFM file has no alpha channel: use .exr or .png");
 
   if (ext == ".exr") {
     std::vector<ExrChannel> planes = {{"R", {}}, {"G", {}}, {"B", {}}};
@@ -568,6 +573,7 @@ void writeImage(const std::string& path, const Image& image, float exposureStops
       planes[c].second.resize(image.pixels.size());
       for (size_t i = 0; i < image.pixels.size(); ++i) planes[c].second[i] = image.pixels[i][c];
     }
+    if (alpha) planes.push_back({"A", *alpha});  // the colour is premultiplied, as EXR expects
     writeExrLayers(path, image.width, image.height, planes);
     return;
   }
@@ -575,6 +581,20 @@ void writeImage(const std::string& path, const Image& image, float exposureStops
   std::vector<unsigned char> bytes;
   if (ext == ".pfm") {
     bytes = encodePfm(image);
+  } else if (alpha) {
+    // PNG's alpha is straight: undo the premultiplication before encoding.
+    Image straight = image;
+    for (size_t i = 0; i < straight.pixels.size(); ++i)
+      if ((*alpha)[i] > 0) straight.pixels[i] /= (*alpha)[i];
+    const std::vector<uint8_t> rgb = toSrgb8(straight, exposureStops);
+    std::vector<uint8_t> rgba(straight.pixels.size() * 4);
+    for (size_t i = 0; i < straight.pixels.size(); ++i) {
+      for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = rgb[3 * i + size_t(c)];
+      rgba[4 * i + 3] = uint8_t(std::lround(std::clamp((*alpha)[i], 0.0f, 1.0f) * 255.0f));
+    }
+    if (!stbi_write_png_to_func(appendToVector, &bytes, image.width, image.height, 4, rgba.data(),
+                                image.width * 4))
+      fail(path, "PNG encoding failed");
   } else {
     const std::vector<uint8_t> rgb = toSrgb8(image, exposureStops);
     if (!stbi_write_png_to_func(appendToVector, &bytes, image.width, image.height, 3, rgb.data(),

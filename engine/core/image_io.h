@@ -30,9 +30,12 @@ Image readImage(const std::string& path);
 // Writes an image by extension (case-insensitive), atomically (see writeFileAtomically):
 //   .exr  float32 RGB, ZIP compressed       .pfm  little-endian float RGB
 //   .png  8-bit sRGB after scaling by 2^exposureStops and clamping to [0,1]
-// The exposure only affects PNG: the HDR formats store the radiance unchanged.
+// The exposure only affects PNG: the HDR formats store the radiance unchanged. With `alpha`
+// (one coverage value per pixel; the colour premultiplied by it), EXR gets an "A" channel and
+// PNG an alpha channel (straight, as PNG stores it); PFM has none and is refused.
 // Throws ImageIoError for an empty image, an unsupported extension or an I/O failure.
-void writeImage(const std::string& path, const Image& image, float exposureStops = 0.0f);
+void writeImage(const std::string& path, const Image& image, float exposureStops = 0.0f,
+                const std::vector<float>* alpha = nullptr);
 // Throws the ImageIoError writeImage would give for an unsupported extension, so a command
 // can reject a bad output name before spending minutes on a render.
 void checkWritableImagePath(const std::string& path);

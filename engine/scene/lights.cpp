@@ -110,17 +110,28 @@ LightSampler buildLightSampler(const Scene& scene) {
       sum += w;
     }
   }
-  if (!scene.lights.empty()) {
-    vec3 lo, hi;
-    sceneBounds(scene, lo, hi);
-    const float radius = lo.x <= hi.x ? 0.5f * glm::length(hi - lo) : 1.0f;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-      const double w = punctualWeight(scene.lights[i], radius);
-      if (!(w > 0) || !std::isfinite(w)) continue;
-      ls.emitters.push_back({0, 0, 0.0f, int(i)});
+  vec3 lo, hi;
+  sceneBounds(scene, lo, hi);
+  const float radius = lo.x <= hi.x ? 0.5f * glm::length(hi - lo) : 1.0f;
+  ls.environment = lightingEnvironment(scene);
+  if (ls.environment) {
+    // Power over pi through the scene's cross-section, as for a directional light (whose
+    // illuminance is what the environment's integrated radiance generalises).
+    const double w = double(radius) * double(radius) * ls.environment->integratedLuminance();
+    if (w > 0 && std::isfinite(w)) {
+      ls.emitters.push_back({0, 0, 0.0f, LightSampler::kEnvironment});
       weights.push_back(w);
       sum += w;
+    } else {
+      ls.environment = nullptr;
     }
+  }
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const double w = punctualWeight(scene.lights[i], radius);
+    if (!(w > 0) || !std::isfinite(w)) continue;
+    ls.emitters.push_back({0, 0, 0.0f, int(i)});
+    weights.push_back(w);
+    sum += w;
   }
   double running = 0;
   for (size_t i = 0; i < ls.emitters.size(); ++i) {
@@ -128,7 +139,8 @@ LightSampler buildLightSampler(const Scene& scene) {
     e.probability = float(weights[i] / sum);
     running += weights[i];
     ls.cdf.push_back(float(running / sum));
-    if (e.punctual >= 0) continue;
+    if (e.punctual == LightSampler::kEnvironment) ls.environmentProbability = e.probability;
+    if (e.punctual != -1) continue;
     auto& perTriangle = ls.triangleProbability[e.meshId];
     if (perTriangle.empty()) perTriangle.assign(scene.meshes[e.meshId].triangleCount(), 0.0f);
     perTriangle[e.primId] = e.probability;
@@ -143,6 +155,17 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   const size_t i =
       size_t(std::upper_bound(lights.cdf.begin(), lights.cdf.end(), uChoose) - lights.cdf.begin());
   const auto& e = lights.emitters[std::min(i, lights.emitters.size() - 1)];
+  if (e.punctual == LightSampler::kEnvironment) {
+    float pdf = 0;
+    if (!lights.environment->sample(uTri, out.wi, pdf)) return false;
+    out.pdf = e.probability * pdf;
+    out.distance = INFINITY;
+    out.point = reference + out.wi;
+    out.normal = -out.wi;
+    out.radiance = lights.environment->radiance(out.wi);
+    out.delta = false;
+    return out.pdf > 0 && std::isfinite(out.pdf);
+  }
   if (e.punctual >= 0) {
     if (!samplePunctual(scene.lights[size_t(e.punctual)], reference, out)) return false;
     out.pdf = e.probability;
@@ -177,6 +200,30 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
     out.radiance = emittedRadiance(scene, material, glm::vec2(0.0f));
   }
   return std::isfinite(out.pdf);
+}
+
+std::shared_ptr<const EnvironmentLight> lightingEnvironment(const Scene& scene) {
+  std::shared_ptr<const EnvironmentLight> light;
+  const Environment& e = scene.environment;
+  if (e.present())
+    light = std::make_shared<const EnvironmentLight>(e.map, e.strength, e.rotationDegrees);
+  else if (scene.background)
+    light = std::make_shared<const EnvironmentLight>(EnvironmentLight::constant(*scene.background));
+  return light && !light->black() ? light : nullptr;
+}
+
+vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction,
+                     bool cameraRay) {
+  if (cameraRay) {
+    if (scene.transparent) return vec3(0.0f);
+    if (scene.environment.present() && scene.background) return *scene.background;
+  }
+  return lights.environment ? lights.environment->radiance(direction) : vec3(0.0f);
+}
+
+float environmentPdf(const LightSampler& lights, vec3 direction) {
+  return lights.environment ? lights.environmentProbability * lights.environment->pdf(direction)
+                            : 0.0f;
 }
 
 float lightPdf(const Scene& scene, const LightSampler& lights, uint32_t meshId, uint32_t primId,

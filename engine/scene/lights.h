@@ -4,12 +4,16 @@
 // punctual light's luminous intensity times its cone's solid angle (a directional light's
 // illuminance times the scene's cross-section), both divided by pi. A triangle is then
 // sampled uniformly in area at the ray's time, so moving emitters light the scene where they
-// are; a punctual light has one point (or direction).
+// are; a punctual light has one point (or direction). The environment (the scene's map, or a
+// constant background without one) is one more light, weighing the scene's cross-section
+// times its radiance integrated over the sphere (a directional light's weight, generalised),
+// and samples a direction by its own importance (environment.h).
 #pragma once
 
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace penumbra {
@@ -18,16 +22,31 @@ struct LightSampler {
   struct Emitter {
     uint32_t meshId, primId;
     float probability;  // of choosing this light
-    int punctual = -1;  // index into Scene::lights; -1: the triangle (meshId, primId)
+    int punctual = -1;  // index into Scene::lights; -1: the triangle (meshId, primId);
+                        // kEnvironment: the environment
   };
+  static constexpr int kEnvironment = -2;
   std::vector<Emitter> emitters;
   std::vector<float> cdf;  // normalised, cdf.back() == 1
   // probability[mesh][triangle] for meshes with emitters (empty otherwise), so a BSDF
   // ray that hits an emitter finds its light-sampling pdf without a search.
   std::vector<std::vector<float>> triangleProbability;
+  // What lights the scene from far away (null: nothing), and the probability of choosing it.
+  std::shared_ptr<const EnvironmentLight> environment;
+  float environmentProbability = 0;
 
   bool empty() const { return emitters.empty(); }
 };
+
+// The environment that lights a scene: its map, else its background as a constant; null when
+// there is neither (or it is black).
+std::shared_ptr<const EnvironmentLight> lightingEnvironment(const Scene& scene);
+// What a ray that leaves the scene sees: camera rays (`cameraRay`) see the backdrop (the
+// background when the scene has both an environment and a background; nothing when the scene is
+// transparent), the others the lighting environment.
+vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction, bool cameraRay);
+// Solid-angle pdf with which sampleLight would produce `direction` from the environment.
+float environmentPdf(const LightSampler& lights, vec3 direction);
 
 LightSampler buildLightSampler(const Scene& scene);
 
@@ -37,7 +56,7 @@ void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, 
 struct LightSample {
   vec3 point, normal;  // area lights: normal on the emitting (counter-clockwise) side
   vec3 wi;             // unit direction from the reference point towards the light
-  float distance = 0;  // to the light; infinite for a directional light
+  float distance = 0;  // to the light; infinite for a directional light and the environment
   vec3 radiance;       // emitted towards the reference point; punctual lights: the irradiance
                        // it gives on a surface facing it (intensity / distance^2, cone applied)
   float pdf = 0;       // area lights: solid angle at the reference point; punctual lights:

@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "scene/camera.h"
+#include "scene/environment.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -107,7 +109,13 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Image> images;
   std::vector<PunctualLight> lights;
-  vec3 background = vec3(0.0f);
+  // Light from far away (environment.h). Without one, a `background` lights the scene as a
+  // constant environment; with one, the environment lights it and the background is the
+  // backdrop camera rays see. `transparent` hides whatever camera rays would see beyond the
+  // scene (the alpha channel of a render says where that is).
+  Environment environment;
+  std::optional<vec3> background;
+  bool transparent = false;
   Camera camera;
   RenderSettings settings;
   // Features a file has that are not rendered (glTF's, say), one line each, "file: what".

@@ -171,6 +171,21 @@ void readCamera(const Reader& r, const Json& node, Camera& c) {
     r.fail(f + ".up", "up is parallel to the viewing direction");
 }
 
+void readEnvironment(const Reader& r, const Json& node, Scene& scene) {
+  const std::string f = "environment";
+  r.checkKeys(node, f, {"file", "strength", "rotation"});
+  Environment& e = scene.environment;
+  e.file = r.filePath(node, f);
+  try {
+    e.map = readEnvironmentMap(e.file);
+  } catch (const SceneError& error) {
+    r.fail(f + ".file", error.what());
+  }
+  e.strength = r.number(node, f, "strength", 1.0f);
+  if (e.strength < 0) r.fail(f + ".strength", "must not be negative");
+  e.rotationDegrees = r.number(node, f, "rotation", 0.0f);
+}
+
 int readTexture(const Reader& r, const Json& node, const std::string& f, Scene& scene) {
   r.checkKeys(node, f, {"type", "file", "colors", "scale"});
   if (!node.contains("type")) r.fail(f, "missing field 'type' (image, checker, stripes)");
@@ -585,10 +600,12 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
   scene.sourceFiles.push_back(path);
   const Reader r(path, baseDir, scene.sourceFiles);
   r.checkKeys(root, "",
-              {"render", "camera", "background", "textures", "materials", "objects", "lights"});
+              {"render", "camera", "background", "environment", "textures", "materials", "objects",
+               "lights"});
   if (root.contains("render")) readRender(r, root["render"], scene.settings);
   if (root.contains("camera")) readCamera(r, root["camera"], scene.camera);
-  scene.background = r.color(root, "", "background", vec3(0.0f));
+  if (root.contains("background")) scene.background = r.color(root, "", "background", vec3(0.0f));
+  if (root.contains("environment")) readEnvironment(r, root["environment"], scene);
 
   std::map<std::string, int> textures, materials;
   if (root.contains("textures")) {
@@ -617,6 +634,24 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
   return scene;
 }
 
+// A glTF or OBJ file opened as a scene by itself is an asset: if nothing in it lights it (no
+// punctual light, no emitter other than textured emission, which is decoration), it gets the
+// built-in environment, as other glTF viewers give it.
+namespace {
+void lightUnlitAsset(Scene& scene) {
+  if (!scene.lights.empty() || scene.environment.present()) return;
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const Mesh& mesh : scene.meshes)
+    for (uint32_t id : mesh.materialIds) used[id] = true;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    if (used[i] && m.isEmissive() && m.emissionTexture < 0) return;
+  }
+  scene.environment.map = builtinEnvironmentMap();
+  scene.environment.builtin = true;
+}
+}  // namespace
+
 Scene sceneFromObj(const std::string& path) {
   ObjData obj = loadObj(path);
   Scene scene;
@@ -629,8 +664,8 @@ Scene sceneFromObj(const std::string& path) {
   obj.mesh.name = fs::path(path).stem().string();
   if (obj.mesh.triangleCount() == 0) throw SceneError(path + ": no faces");
   scene.meshes.push_back(std::move(obj.mesh));
-  scene.background = vec3(0.0f);
   frameCamera(scene);
+  lightUnlitAsset(scene);
   return scene;
 }
 
@@ -654,6 +689,7 @@ Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options) {
     scene.camera = gltf.camera;
   else
     frameCamera(scene);
+  lightUnlitAsset(scene);
   return scene;
 }
 

@@ -89,6 +89,15 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
   return prepared;
 }
 
+std::unique_ptr<PreparedScene> prepareLighting(const PreparedScene& base, Scene scene) {
+  auto prepared = std::make_unique<PreparedScene>();
+  prepared->scene = std::move(scene);
+  setCamera(*prepared);
+  prepared->accel = base.accel;
+  prepared->lights = buildLightSampler(prepared->scene);
+  return prepared;
+}
+
 std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera,
                                            int regionX, int regionY, int regionW, int regionH) {
   Camera cropped = camera;
@@ -184,8 +193,14 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     Hit hit;
     ++counters.rays;
     if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
-      radiance += throughput * scene.background;  // background is not light-sampled: weight 1
-      if (features && cameraChain) features->emission += throughput * scene.background;
+      // The environment, weighted against its own light sampling (a camera ray sees the
+      // backdrop, which nothing light-samples).
+      const vec3 seen = escapedRadiance(scene, prepared.lights, ray.direction, depth == 0);
+      float weight = 1.0f;
+      if (depth > 0 && !specularBounce && prepared.lights.environment)
+        weight = powerHeuristic(previousBsdfPdf, environmentPdf(prepared.lights, ray.direction));
+      radiance += throughput * seen * weight;
+      if (features && cameraChain) features->emission += throughput * seen * weight;
       break;
     }
     const SurfaceHit surface = surfaceAt(scene, hit, ray.time);

@@ -1,6 +1,6 @@
-// Unidirectional path tracer: next-event estimation on the area lights combined with
-// BSDF sampling by multiple importance sampling (power heuristic), Russian roulette
-// after the third vertex, and a maximum depth (pbrt-v4 convention: 0 = emitters seen
+// Unidirectional path tracer: next-event estimation on the lights (area, punctual and the
+// environment) combined with BSDF sampling by multiple importance sampling (power
+// heuristic), Russian roulette after the third vertex, and a maximum depth (pbrt-v4 convention: 0 = emitters seen
 // directly, 1 = direct lighting, ...). `traceRadiance` is the one entry point every
 // sampler calls: radiance (linear RGB) of the camera sample at a given 5D point.
 #pragma once
@@ -36,6 +36,11 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
 // Throws SceneError when the window does not fit the base scene's image.
 std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Camera& camera,
                                            int regionX, int regionY, int regionW, int regionH);
+
+// The same geometry lit another way: `scene` is base's scene with only its lights, environment,
+// background or transparency changed (the caller's promise); shares base's BVH and rebuilds the
+// light sampler, so a viewer can change the environment and restart at once.
+std::unique_ptr<PreparedScene> prepareLighting(const PreparedScene& base, Scene scene);
 
 struct PathCounters {
   uint64_t rays = 0;  // every ray cast: camera, bounce and shadow rays

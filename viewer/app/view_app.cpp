@@ -47,6 +47,52 @@ ViewerApp::ViewerApp(ViewOptions options) : options_(std::move(options)) {
   session_ = std::make_unique<RenderSession>(options_.threads, options_.background);
   watchSceneFiles();
   view_.region = options_.region;
+  syncEnvironmentFields();
+  restart();
+}
+
+namespace {
+// The scene lit as the panel says, sharing base's geometry.
+std::unique_ptr<PreparedScene> relight(const PreparedScene& base, const EnvironmentEdit& edit) {
+  Scene scene = base.scene;
+  Environment& e = scene.environment;
+  if (edit.file == "none") {
+    e = Environment{};
+  } else if (!edit.file.empty()) {
+    e.map = readEnvironmentMap(edit.file);
+    e.file = edit.file;
+    e.builtin = false;
+    scene.sourceFiles.push_back(edit.file);
+  }
+  if (e.present()) {
+    e.strength = edit.strength;
+    e.rotationDegrees = edit.rotationDegrees;
+  }
+  return prepareLighting(base, std::move(scene));
+}
+}  // namespace
+
+void ViewerApp::syncEnvironmentFields() {
+  const Environment& e = options_.scene->scene.environment;
+  view_.environmentStrength = e.strength;
+  view_.environmentRotation = e.rotationDegrees;
+}
+
+void ViewerApp::setEnvironment(EnvironmentEdit edit) {
+  // A strength or rotation alone keeps the map an earlier edit chose (it reapplies on reload).
+  if (edit.file.empty() && environmentEdit_) edit.file = environmentEdit_->file;
+  std::shared_ptr<const PreparedScene> relit;
+  try {
+    relit = relight(*options_.scene, edit);
+  } catch (const std::exception& e) {
+    message_ = std::string("environment not changed: ") + e.what();
+    return;
+  }
+  environmentEdit_ = edit;
+  options_.scene = std::move(relit);
+  watchSceneFiles();
+  const Environment& e = options_.scene->scene.environment;
+  message_ = !e.present() ? "no environment" : "environment " + (e.builtin ? std::string("(built-in)") : e.file);
   restart();
 }
 
@@ -78,6 +124,7 @@ bool ViewerApp::checkSceneFiles() {
   std::shared_ptr<const PreparedScene> prepared;
   try {
     prepared = prepareScene(options_.loadScene(options_.scenePath));
+    if (environmentEdit_) prepared = relight(*prepared, *environmentEdit_);
   } catch (const std::exception& e) {
     message_ = std::string("reload failed, still showing the last good scene: ") + e.what();
     return false;
@@ -115,6 +162,8 @@ bool ViewerApp::openScene(const std::string& path) {
   options_.scene = std::move(prepared);
   options_.scenePath = path;
   view_.camera = options_.scene->scene.camera;
+  environmentEdit_.reset();  // the new scene's own environment
+  syncEnvironmentFields();
   watchSceneFiles();
   message_ = "opened " + path;
   restart();

@@ -69,6 +69,9 @@ class ViewerApp {
   // Renders only `region` (clamped to the image; an empty one renders everything) and
   // restarts; the picture outside keeps the last image, dimmed.
   void setRegion(RenderRegion region);
+  // Changes the environment (the panel's Environment section) and restarts; the change stays
+  // applied when the scene's files reload. A map that cannot be read leaves all as it was.
+  void setEnvironment(EnvironmentEdit edit);
   bool quitRequested() const { return view_.quit; }
   // Writes the shown image (linear .exr/.pfm or .png with the exposure); returns a message.
   std::string saveImage(const std::string& path) const;
@@ -121,6 +124,8 @@ class ViewerApp {
   std::vector<FileStamp> stamps_;
   std::chrono::steady_clock::time_point lastFileCheck_;
   std::string configError_;  // why the panel's parameters cannot start
+  std::optional<EnvironmentEdit> environmentEdit_;  // the panel's, reapplied on reload
+  void syncEnvironmentFields();                     // the panel's fields from the scene
 
   // What is shown.
   std::shared_ptr<const Snapshot> snapshot_;

@@ -148,7 +148,8 @@ void ViewerApp::drawUi(int width, int height, double deltaSeconds) {
       [this](const std::string& path) { requestScreenshot(path); },
       [this](int x, int y) { inspectPixel(x, y); },
       [this](const std::string& path) { openScene(path); },
-      [this](RenderRegion region) { setRegion(region); }};
+      [this](RenderRegion region) { setRegion(region); },
+      [this](const EnvironmentEdit& edit) { setEnvironment(edit); }};
   if (view_.showPanel) drawPanel(state, actions);
   if (view_.showInspector && view_.inspectX >= 0) drawInspector(state, actions);
   ImGui::Render();

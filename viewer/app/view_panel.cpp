@@ -319,6 +319,25 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
     if (ImGui::Button("open scene (.json/.gltf/.glb/.obj)") && v.openField[0])
       actions.openScene(v.openField);
   }
+  if (ImGui::CollapsingHeader("Environment")) {
+    // The map that lights the scene (an equirectangular .exr or .hdr, top row up), its
+    // strength and its turn about +y; "none" removes it. A change restarts the render.
+    const Environment& e = o.scene->scene.environment;
+    ImGui::TextWrapped("%s", !e.present()  ? "(none)"
+                             : e.builtin   ? "(built-in studio)"
+                                           : e.file.c_str());
+    ImGui::InputText("map file", v.environmentField, sizeof v.environmentField);
+    bool changed = false;
+    std::string file;  // empty: keep the map
+    if (ImGui::Button("use this map (or none)") && v.environmentField[0]) {
+      changed = true;
+      file = v.environmentField;
+    }
+    changed |= ImGui::DragFloat("strength", &v.environmentStrength, 0.01f, 0.0f, 1e4f, "%.3g",
+                                ImGuiSliderFlags_AlwaysClamp);
+    changed |= ImGui::SliderFloat("rotation", &v.environmentRotation, -180.0f, 180.0f, "%.0f deg");
+    if (changed) actions.setEnvironment({file, v.environmentStrength, v.environmentRotation});
+  }
   if (ImGui::CollapsingHeader("Render region")) {
     // Ctrl + left drag on the image draws one; ctrl + click clears it.
     ImGui::InputInt4("x, y, w, h", v.regionField);

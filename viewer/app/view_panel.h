@@ -38,6 +38,7 @@ struct PanelActions {
   std::function<void(int, int)> inspectPixel;         // (-1, -1): none
   std::function<void(const std::string&)> openScene;  // the message says how it went
   std::function<void(RenderRegion)> setRegion;        // an empty region renders everything
+  std::function<void(const EnvironmentEdit&)> setEnvironment;  // the message says how it went
 };
 
 // The panel's controls of the run and the method, as the tables describe them: the run shape's

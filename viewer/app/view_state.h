@@ -29,6 +29,14 @@ struct RenderRegion {
   bool operator==(const RenderRegion&) const = default;
 };
 
+// The panel's change to the environment: a map's file ("none": no map; empty: keep the map),
+// its strength and rotation. It stays applied when the scene's files reload.
+struct EnvironmentEdit {
+  std::string file;
+  float strength = 1.0f;
+  float rotationDegrees = 0.0f;
+};
+
 struct ViewOptions {
   std::shared_ptr<const PreparedScene> scene;  // as loaded; camera moves make views of it
   // Reads a scene file as the command loaded the first one (its flags applied). When set, the
@@ -95,6 +103,8 @@ struct ViewState {
   char openField[512] = "";           // the panel's scene file field
   RenderRegion region;                // the active render region
   int regionField[4] = {0, 0, 0, 0};  // the panel's x, y, w, h fields
+  char environmentField[512] = "";    // the panel's environment map file
+  float environmentStrength = 1.0f, environmentRotation = 0.0f;
 
   // The image position under framebuffer position (x, y).
   void toImage(double x, double y, float& imageX, float& imageY) const {

@@ -40,7 +40,8 @@ TEST(SceneLoader, ValidSceneLoadsEveryField) {
   EXPECT_EQ(s.settings.maxDepth, 5);
   EXPECT_FLOAT_EQ(s.camera.lensRadius, 0.1f);
   EXPECT_FLOAT_EQ(s.camera.shutterOpen, 0.2f);
-  EXPECT_FLOAT_EQ(s.background.z, 0.3f);
+  ASSERT_TRUE(s.background.has_value());
+  EXPECT_FLOAT_EQ(s.background->z, 0.3f);
   ASSERT_EQ(s.materials.size(), 4u);
   EXPECT_EQ(s.materials[0].albedoTexture, 0);
   EXPECT_EQ(s.materials[1].type, Material::Type::Conductor);

@@ -1,0 +1,222 @@
+#include "scene/environment.h"
+
+#include "core/image_io.h"
+#include "scene/scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra {
+
+namespace {
+constexpr float kPi = 3.14159265358979f;
+constexpr double kPiD = 3.14159265358979323846;
+
+// Index of the last entry of cdf[0..n] that is <= u, in [0, n - 1].
+int findInterval(const float* cdf, int n, float u) {
+  const float* it = std::upper_bound(cdf, cdf + n + 1, u);
+  return std::clamp(int(it - cdf) - 1, 0, n - 1);
+}
+}  // namespace
+
+glm::vec2 directionToEquirect(vec3 d) {
+  const float t = std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi;
+  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
+  if (u >= 1.0f) u -= 1.0f;
+  return {std::clamp(u, 0.0f, 1.0f), t};
+}
+
+vec3 equirectToDirection(glm::vec2 ut) {
+  const float theta = kPi * ut.y, phi = 2.0f * kPi * (ut.x - 0.5f);
+  const float s = std::sin(theta);
+  return {s * std::cos(phi), std::cos(theta), s * std::sin(phi)};
+}
+
+std::shared_ptr<const Image> readEnvironmentMap(const std::string& path) {
+  Image image;
+  try {
+    image = readImage(path);
+  } catch (const ImageIoError& e) {
+    throw SceneError(e.what());
+  }
+  if (image.empty()) throw SceneError(path + ": the environment map is empty");
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const vec3 c = image.at(x, y);
+      if (!isFinite(c) || c.x < 0 || c.y < 0 || c.z < 0)
+        throw SceneError(path + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                         ") is not a finite, non-negative radiance");
+    }
+  return std::make_shared<const Image>(std::move(image));
+}
+
+std::shared_ptr<const Image> builtinEnvironmentMap() {
+  // 128 x 64 texels: fine enough for the broad lobes below, small enough to build at once.
+  constexpr int kWidth = 128, kHeight = 64;
+  Image image(kWidth, kHeight);
+  const vec3 key = glm::normalize(vec3(-0.55f, 0.65f, 0.55f));   // high, front left
+  const vec3 fill = glm::normalize(vec3(0.8f, 0.25f, 0.35f));    // low, right
+  const vec3 rim = glm::normalize(vec3(0.1f, 0.45f, -0.9f));     // behind
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const vec3 d =
+          equirectToDirection({(float(x) + 0.5f) / kWidth, (float(y) + 0.5f) / kHeight});
+      // A grey room: brighter overhead, a darker floor, a soft step at the horizon.
+      const float up = std::clamp(d.y * 4.0f, -1.0f, 1.0f);
+      float level = d.y >= 0 ? 0.55f + 0.35f * d.y : 0.25f;
+      level = 0.5f * (1 + up) * level + 0.5f * (1 - up) * 0.25f;
+      // Soft boxes: broad lobes around three directions.
+      auto lobe = [&](vec3 axis, float width, float gain) {
+        const float c = glm::dot(d, axis);
+        return gain * std::exp((c - 1.0f) / width);
+      };
+      level += lobe(key, 0.04f, 6.0f) + lobe(fill, 0.08f, 1.2f) + lobe(rim, 0.05f, 2.0f);
+      image.at(x, y) = vec3(level);
+    }
+  return std::make_shared<const Image>(std::move(image));
+}
+
+EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float strength,
+                                   float rotationDegrees)
+    : map_(std::move(map)), strength_(strength) {
+  const float r = rotationDegrees * kPi / 180.0f;
+  cosRotation_ = std::cos(r);
+  sinRotation_ = std::sin(r);
+  width_ = map_->width;
+  height_ = map_->height;
+  cosRowEdge_.resize(size_t(height_) + 1);
+  for (int j = 0; j <= height_; ++j) cosRowEdge_[size_t(j)] = float(std::cos(kPiD * j / height_));
+  cosRowEdge_.front() = 1.0f;
+  cosRowEdge_.back() = -1.0f;
+
+  // Cell weights: the mean over the texel of the bilinear lookup's luminance, times its solid
+  // angle; rows' sums make the marginal. A bilinear lookup spreads a texel a quarter of a texel
+  // into its neighbours, so a texel's mean is 3/4 of itself plus 1/8 of each neighbour, per
+  // axis (wrapping in azimuth, clamped at the poles): a bright texel's neighbours get the
+  // samples their share of its light needs, with no fireflies from BSDF samples there.
+  const size_t w = size_t(width_), h = size_t(height_);
+  std::vector<float> texelLuminance(w * h), rowFiltered(w * h);
+  for (size_t j = 0; j < h; ++j)
+    for (size_t i = 0; i < w; ++i) texelLuminance[j * w + i] = luminance(map_->at(int(i), int(j)));
+  for (size_t j = 0; j < h; ++j)
+    for (size_t i = 0; i < w; ++i) {
+      const float* row = &texelLuminance[j * w];
+      rowFiltered[j * w + i] =
+          0.75f * row[i] + 0.125f * (row[(i + w - 1) % w] + row[(i + 1) % w]);
+    }
+  std::vector<float> cellLuminance(w * h);
+  for (size_t j = 0; j < h; ++j)
+    for (size_t i = 0; i < w; ++i) {
+      const size_t up = j > 0 ? j - 1 : 0, down = j + 1 < h ? j + 1 : h - 1;
+      cellLuminance[j * w + i] = 0.75f * rowFiltered[j * w + i] +
+                                 0.125f * (rowFiltered[up * w + i] + rowFiltered[down * w + i]);
+    }
+  columnCdf_.assign(h * (w + 1), 0.0f);
+  cellPdf_.assign(h * w, 0.0f);
+  std::vector<double> rowSum(h, 0.0);
+  std::vector<double> cell(w);
+  for (size_t j = 0; j < h; ++j) {
+    const double solidAngle =
+        2.0 * kPiD / double(w) * (double(cosRowEdge_[j]) - double(cosRowEdge_[j + 1]));
+    double running = 0;
+    for (size_t i = 0; i < w; ++i) {
+      cell[i] = double(cellLuminance[j * w + i]) * solidAngle;
+      running += cell[i];
+    }
+    rowSum[j] = running;
+    float* cdf = &columnCdf_[j * (w + 1)];
+    double acc = 0;
+    for (size_t i = 0; i < w; ++i) {
+      acc += cell[i];
+      cdf[i + 1] = running > 0 ? float(acc / running) : float(i + 1) / float(w);
+    }
+    cdf[w] = 1.0f;
+  }
+  double total = 0;
+  for (double s : rowSum) total += s;
+  integral_ = total * double(strength_);
+  rowCdf_.assign(h + 1, 0.0f);
+  double acc = 0;
+  for (size_t j = 0; j < h; ++j) {
+    acc += rowSum[j];
+    rowCdf_[j + 1] = total > 0 ? float(acc / total) : float(j + 1) / float(h);
+  }
+  rowCdf_[h] = 1.0f;
+  if (!(total > 0)) return;
+  for (size_t j = 0; j < h; ++j) {
+    const double solidAngle =
+        2.0 * kPiD / double(w) * (double(cosRowEdge_[j]) - double(cosRowEdge_[j + 1]));
+    for (size_t i = 0; i < w; ++i) {
+      const double p = double(cellLuminance[j * w + i]) * solidAngle / total;
+      cellPdf_[j * w + i] = solidAngle > 0 ? float(p / solidAngle) : 0.0f;
+    }
+  }
+}
+
+EnvironmentLight EnvironmentLight::constant(vec3 radiance) {
+  return EnvironmentLight(std::make_shared<const Image>(1, 1, radiance), 1.0f, 0.0f);
+}
+
+vec3 EnvironmentLight::toMap(vec3 d) const {
+  // Inverse of toWorld: rotate by -rotation about +y.
+  return {cosRotation_ * d.x - sinRotation_ * d.z, d.y, sinRotation_ * d.x + cosRotation_ * d.z};
+}
+
+vec3 EnvironmentLight::toWorld(vec3 d) const {
+  // Right-hand rule about +y: +x turns towards -z.
+  return {cosRotation_ * d.x + sinRotation_ * d.z, d.y, -sinRotation_ * d.x + cosRotation_ * d.z};
+}
+
+int EnvironmentLight::cellRow(float cosTheta) const {
+  // Rows run from cos = 1 (top) down to cos = -1; the row whose edges bracket cosTheta.
+  const auto it = std::upper_bound(cosRowEdge_.begin(), cosRowEdge_.end(), cosTheta,
+                                   [](float value, float edge) { return value > edge; });
+  return std::clamp(int(it - cosRowEdge_.begin()) - 1, 0, height_ - 1);
+}
+
+vec3 EnvironmentLight::radiance(vec3 direction) const {
+  const glm::vec2 ut = directionToEquirect(toMap(direction));
+  const Image& m = *map_;
+  // Bilinear between texel centres: wraps in azimuth, clamps at the poles.
+  const float x = ut.x * float(width_) - 0.5f, y = ut.y * float(height_) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  const int x0 = ((int(fx) % width_) + width_) % width_, x1 = (x0 + 1) % width_;
+  const int y0 = std::clamp(int(fy), 0, height_ - 1), y1 = std::clamp(int(fy) + 1, 0, height_ - 1);
+  const vec3 c = (1 - ty) * ((1 - tx) * m.at(x0, y0) + tx * m.at(x1, y0)) +
+                 ty * ((1 - tx) * m.at(x0, y1) + tx * m.at(x1, y1));
+  return c * strength_;
+}
+
+bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf) const {
+  if (black()) return false;
+  const int j = findInterval(rowCdf_.data(), height_, u.y);
+  const float r0 = rowCdf_[size_t(j)], r1 = rowCdf_[size_t(j) + 1];
+  const float vRemapped = r1 > r0 ? std::clamp((u.y - r0) / (r1 - r0), 0.0f, 1.0f) : 0.5f;
+  const float* cdf = &columnCdf_[size_t(j) * size_t(width_ + 1)];
+  const int i = findInterval(cdf, width_, u.x);
+  const float c0 = cdf[i], c1 = cdf[i + 1];
+  const float uRemapped = c1 > c0 ? std::clamp((u.x - c0) / (c1 - c0), 0.0f, 1.0f) : 0.5f;
+  pdf = cellPdf_[size_t(j) * size_t(width_) + size_t(i)];
+  if (!(pdf > 0)) return false;
+  // Uniform in azimuth and in cos theta within the texel.
+  const float cosTheta = cosRowEdge_[size_t(j)] +
+                         vRemapped * (cosRowEdge_[size_t(j) + 1] - cosRowEdge_[size_t(j)]);
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  const float phi = 2.0f * kPi * ((float(i) + uRemapped) / float(width_) - 0.5f);
+  direction = toWorld({sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)});
+  return true;
+}
+
+float EnvironmentLight::pdf(vec3 direction) const {
+  if (black()) return 0.0f;
+  const vec3 d = toMap(direction);
+  const int j = cellRow(std::clamp(d.y, -1.0f, 1.0f));
+  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
+  const int i = std::clamp(int(u * float(width_)), 0, width_ - 1);
+  return cellPdf_[size_t(j) * size_t(width_) + size_t(i)];
+}
+
+}  // namespace penumbra
