@@ -24,9 +24,9 @@
 // behind it are in metres, so bumps have their true slope on the surface.
 //
 // Usage: penumbra_make_asset_scene OUT_DIR [--texture-size N] [--no-env] [--env FILE]
+#include <stb/stb_image_write.h>
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
-#include <stb/stb_image_write.h>
 
 #include <algorithm>
 #include <array>
@@ -62,7 +62,9 @@ uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
   return h;
 }
 
-double hash01(uint32_t a, uint32_t b, uint32_t c) { return (hash3(a, b, c) >> 8) * (1.0 / 16777216.0); }
+double hash01(uint32_t a, uint32_t b, uint32_t c) {
+  return (hash3(a, b, c) >> 8) * (1.0 / 16777216.0);
+}
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
 
@@ -146,7 +148,8 @@ Mesh gridSurface(const std::string& name, int nu, int nv,
     for (int i = 0; i < nu; ++i) {
       const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       const dvec3 hint = outward((i + 0.5) / nu, (j + 0.5) / nv);
-      const dvec3 face = glm::cross(positionOf(m, b) - positionOf(m, a), positionOf(m, c) - positionOf(m, a));
+      const dvec3 face =
+          glm::cross(positionOf(m, b) - positionOf(m, a), positionOf(m, c) - positionOf(m, a));
       if (glm::dot(face, hint) >= 0)
         m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
       else
@@ -162,7 +165,8 @@ void computeNormals(Mesh& m) {
   std::vector<dvec3> sum(n, dvec3(0.0));
   for (size_t t = 0; t < m.indices.size(); t += 3) {
     const uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
-    const dvec3 face = glm::cross(positionOf(m, b) - positionOf(m, a), positionOf(m, c) - positionOf(m, a));
+    const dvec3 face =
+        glm::cross(positionOf(m, b) - positionOf(m, a), positionOf(m, c) - positionOf(m, a));
     sum[a] += face;
     sum[b] += face;
     sum[c] += face;
@@ -198,13 +202,14 @@ double signedVolume(const Mesh& m) {
 
 // ---------------------------------------------------------------------- the asset: a knot
 constexpr int kKnotAlong = 520, kKnotAround = 48;  // 2 * 520 * 48 = 49,920 triangles
-constexpr int kTextureRepeats = 6;                  // the texture repeats 6 times along the knot
-constexpr int kPanelsS = 8, kPanelsT = 3;           // panels per texture, along and around
+constexpr int kTextureRepeats = 6;                 // the texture repeats 6 times along the knot
+constexpr int kPanelsS = 8, kPanelsT = 3;          // panels per texture, along and around
 constexpr double kKnotScale = 0.48, kMajor = 1.0, kMinor = 0.45, kTube = 0.19;
 
 dvec3 knotCentre(double phi) {  // the (2,3) torus knot in the xy plane, facing +z
   const double r = kMajor + kMinor * std::cos(3 * phi);
-  return kKnotScale * dvec3(r * std::cos(2 * phi), r * std::sin(2 * phi), kMinor * std::sin(3 * phi));
+  return kKnotScale *
+         dvec3(r * std::cos(2 * phi), r * std::sin(2 * phi), kMinor * std::sin(3 * phi));
 }
 
 // Tube radius: six flutes around, a raised collar at every texture repeat along.
@@ -232,7 +237,8 @@ Mesh makeKnot(Extent& extent) {
   N[0] = glm::normalize(glm::cross(T[0], dvec3(0, 0, 1)));
   for (int i = 1; i <= nu; ++i) {
     const dvec3 t = T[i % nu], n = N[i - 1] - glm::dot(N[i - 1], t) * t;
-    if (i < nu) N[i] = glm::normalize(n);
+    if (i < nu)
+      N[i] = glm::normalize(n);
     else {
       const dvec3 end = glm::normalize(n);
       const double twist = std::atan2(glm::dot(glm::cross(N[0], end), T[0]), glm::dot(N[0], end));
@@ -305,8 +311,8 @@ Surface pattern(double s, double t, const Extent& e) {
   const double edge = std::min({x, width - x, y, height - y});
   const uint32_t kind = hash3(uint32_t(wrap(ci, kPanelsS)), uint32_t(wrap(cj, kPanelsT)), 7) % 8;
 
-  const double grain = fbm(s, t, 48, 18, 11, 5);            // paint and dirt variation
-  const double brushed = fbm(s, t, 6, 1024, 23, 3);          // streaks along s
+  const double grain = fbm(s, t, 48, 18, 11, 5);     // paint and dirt variation
+  const double brushed = fbm(s, t, 6, 1024, 23, 3);  // streaks along s
   const double wearNoise = fbm(s, t, 96, 36, 31, 4);
   double metalExposed = 0;
   switch (kind) {
@@ -330,7 +336,8 @@ Surface pattern(double s, double t, const Extent& e) {
     case 6: {  // dark panel with a recessed glowing strip
       out.base = dvec3(0.035, 0.037, 0.04) * (0.8 + 0.4 * grain);
       out.roughness = 0.62;
-      const double sx = std::abs(x - width / 2) - 0.32 * width, sy = std::abs(y - height / 2) - 0.05 * height;
+      const double sx = std::abs(x - width / 2) - 0.32 * width,
+                   sy = std::abs(y - height / 2) - 0.05 * height;
       const double inside = std::max(sx, sy);  // < 0 inside the strip, metres
       if (inside < 0) {
         out.emission = dvec3(0.15, 0.85, 1.0) * smoothstep(0.0, 0.004, -inside);
@@ -419,15 +426,18 @@ std::vector<Image8> makeTextures(int size, const Extent& extent) {
   const double dx = extent.s / size, dy = extent.t / size;
   parallelRows(size, [&](int j) {
     for (int i = 0; i < size; ++i) {
-      auto h = [&](int a, int b) { return double(height[size_t(wrap(b, size)) * size + wrap(a, size)]); };
+      auto h = [&](int a, int b) {
+        return double(height[size_t(wrap(b, size)) * size + wrap(a, size)]);
+      };
       const double dhds = (h(i + 1, j) - h(i - 1, j)) / (2 * dx);
       const double dhdt = (h(i, j + 1) - h(i, j - 1)) / (2 * dy);  // per metre of increasing t
-      const dvec3 n = glm::normalize(dvec3(-dhds, dhdt, 1.0));      // up the image = -t
+      const dvec3 n = glm::normalize(dvec3(-dhds, dhdt, 1.0));     // up the image = -t
       const size_t k = size_t(j) * size + i;
       for (int c = 0; c < 3; ++c) normal.pixels[3 * k + c] = byteOf(n[c] * 0.5 + 0.5);
     }
   });
-  return {std::move(base), std::move(normal), std::move(mr), std::move(emissive), std::move(occlusion)};
+  return {std::move(base), std::move(normal), std::move(mr), std::move(emissive),
+          std::move(occlusion)};
 }
 
 void encodePngs(std::vector<Image8>& images, int size) {
@@ -481,7 +491,9 @@ Mesh makeColumn(dvec3 at) {  // a fluted column, 2.9 m, 20 flutes, with a base a
     const double r = 0.21 * (1 - 0.06 * v) - 0.012 * std::pow(std::abs(std::sin(10 * a)), 0.7);
     return at + dvec3(r * std::cos(a), y, r * std::sin(a));
   };
-  auto radial = [](double u, double) { return dvec3(std::cos(2 * kPi * u), 0, std::sin(2 * kPi * u)); };
+  auto radial = [](double u, double) {
+    return dvec3(std::cos(2 * kPi * u), 0, std::sin(2 * kPi * u));
+  };
   Mesh m = gridSurface("Column", 160, 96, f, radial);
   for (double y : {0.1, 2.95}) {  // rings: a torus-like roll of radius 0.1
     auto ring = [at, y](double u, double v) {
@@ -529,7 +541,8 @@ Mesh makeBoulder(const std::string& name, dvec3 at, double radius, uint32_t seed
     const dvec3 d(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
     const double bumps = fbm(u, v, 8, 4, seed, 5) - 0.5;
     // Poles have one value for every u: take the noise there at u = 0.
-    const double r = radius * (1 + 0.35 * (v <= 0 || v >= 1 ? fbm(0, v, 8, 4, seed, 5) - 0.5 : bumps));
+    const double r =
+        radius * (1 + 0.35 * (v <= 0 || v >= 1 ? fbm(0, v, 8, 4, seed, 5) - 0.5 : bumps));
     return at + dvec3(d.x * r, d.y * r * 0.75, d.z * r);
   };
   auto out = [](double u, double v) {
@@ -560,7 +573,9 @@ class Glb {
   int floats(const std::vector<float>& values, int components, const char* type, bool bounds) {
     const size_t count = values.size() / components;
     json a = {{"bufferView", view(values.data(), values.size() * 4, 34962)},
-              {"componentType", 5126}, {"count", count}, {"type", type}};
+              {"componentType", 5126},
+              {"count", count},
+              {"type", type}};
     if (bounds) {
       std::vector<float> lo(components, INFINITY), hi(components, -INFINITY);
       for (size_t i = 0; i < values.size(); ++i) {
@@ -576,7 +591,9 @@ class Glb {
 
   int indices(const std::vector<uint32_t>& values) {
     doc["accessors"].push_back({{"bufferView", view(values.data(), values.size() * 4, 34963)},
-                                {"componentType", 5125}, {"count", values.size()}, {"type", "SCALAR"}});
+                                {"componentType", 5125},
+                                {"count", values.size()},
+                                {"type", "SCALAR"}});
     return int(doc["accessors"].size() - 1);
   }
 
@@ -586,7 +603,9 @@ class Glb {
                        {"NORMAL", floats(m.normals, 3, "VEC3", false)}};
     if (!m.tangents.empty()) attributes["TANGENT"] = floats(m.tangents, 4, "VEC4", false);
     if (!m.uvs.empty()) attributes["TEXCOORD_0"] = floats(m.uvs, 2, "VEC2", false);
-    json primitive = {{"attributes", attributes}, {"indices", indices(m.indices)}, {"mode", 4},
+    json primitive = {{"attributes", attributes},
+                      {"indices", indices(m.indices)},
+                      {"mode", 4},
                       {"material", material}};
     doc["meshes"].push_back({{"name", m.name}, {"primitives", json::array({primitive})}});
     doc["nodes"].push_back({{"name", m.name}, {"mesh", doc["meshes"].size() - 1}});
@@ -594,7 +613,8 @@ class Glb {
   }
 
   int image(const Image8& image) {
-    doc["images"].push_back({{"name", image.name}, {"mimeType", "image/png"},
+    doc["images"].push_back({{"name", image.name},
+                             {"mimeType", "image/png"},
                              {"bufferView", view(image.png.data(), image.png.size(), 0)}});
     doc["textures"].push_back({{"sampler", 0}, {"source", doc["images"].size() - 1}});
     return int(doc["textures"].size() - 1);
@@ -612,7 +632,9 @@ class Glb {
     while (bin_.size() % 4) bin_.push_back(0);
     const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin_.size());
     std::ofstream out(path, std::ios::binary);
-    auto u32 = [&](uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };  // little-endian host
+    auto u32 = [&](uint32_t v) {
+      out.write(reinterpret_cast<const char*>(&v), 4);
+    };                 // little-endian host
     u32(0x46546C67u);  // "glTF"
     u32(2);
     u32(total);
@@ -632,7 +654,8 @@ class Glb {
 json pbr(const std::string& name, dvec3 color, double metallic, double roughness) {
   return {{"name", name},
           {"pbrMetallicRoughness",
-           {{"baseColorFactor", {color.x, color.y, color.z, 1.0}}, {"metallicFactor", metallic},
+           {{"baseColorFactor", {color.x, color.y, color.z, 1.0}},
+            {"metallicFactor", metallic},
             {"roughnessFactor", roughness}}}};
 }
 
@@ -653,14 +676,20 @@ int run(int argc, char** argv) {
   std::string env = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/env/sky.hdr";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--texture-size" && i + 1 < argc) textureSize = std::atoi(argv[++i]);
-    else if (a == "--no-env") withEnvironment = false;
-    else if (a == "--env" && i + 1 < argc) env = argv[++i];
+    if (a == "--texture-size" && i + 1 < argc)
+      textureSize = std::atoi(argv[++i]);
+    else if (a == "--no-env")
+      withEnvironment = false;
+    else if (a == "--env" && i + 1 < argc)
+      env = argv[++i];
     else if (a == "-h" || a == "--help") {
-      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--no-env] [--env FILE.hdr]\n", argv[0]);
+      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--no-env] [--env FILE.hdr]\n",
+                  argv[0]);
       return 0;
-    } else if (outDir.empty() && !a.empty() && a[0] != '-') outDir = a;
-    else throw std::runtime_error("unexpected argument '" + a + "' (see --help)");
+    } else if (outDir.empty() && !a.empty() && a[0] != '-')
+      outDir = a;
+    else
+      throw std::runtime_error("unexpected argument '" + a + "' (see --help)");
   }
   if (outDir.empty()) throw std::runtime_error("no output folder (see --help)");
   if (textureSize < 16 || textureSize > 8192)
@@ -674,7 +703,8 @@ int run(int argc, char** argv) {
   // Stand it on the pedestal: its lowest point touches the pedestal's top.
   constexpr double kPedestalTop = 0.5;
   float lowest = INFINITY;
-  for (size_t i = 1; i < knot.positions.size(); i += 3) lowest = std::min(lowest, knot.positions[i]);
+  for (size_t i = 1; i < knot.positions.size(); i += 3)
+    lowest = std::min(lowest, knot.positions[i]);
   for (size_t i = 1; i < knot.positions.size(); i += 3)
     knot.positions[i] += float(kPedestalTop - lowest);
   const auto texturesStart = std::chrono::steady_clock::now();
@@ -683,23 +713,26 @@ int run(int argc, char** argv) {
   encodePngs(textures, textureSize);
   const double pngSeconds = seconds(texturesStart) - patternSeconds;
   Glb asset;
-  asset.doc["samplers"] = json::array({{{"magFilter", 9729}, {"minFilter", 9987},
-                                        {"wrapS", 10497}, {"wrapT", 10497}}});
+  asset.doc["samplers"] =
+      json::array({{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}}});
   std::vector<int> tex;
   size_t textureBytes = 0;
   for (const Image8& image : textures) {
     tex.push_back(asset.image(image));
     textureBytes += image.png.size();
   }
-  json material = {{"name", "KnotPanels"},
-                   {"pbrMetallicRoughness",
-                    {{"baseColorTexture", {{"index", tex[0]}}}, {"metallicFactor", 1.0},
-                     {"roughnessFactor", 1.0}, {"metallicRoughnessTexture", {{"index", tex[2]}}}}},
-                   {"normalTexture", {{"index", tex[1]}, {"scale", 1.0}}},
-                   {"emissiveTexture", {{"index", tex[3]}}},
-                   {"emissiveFactor", {1.0, 1.0, 1.0}},
-                   {"occlusionTexture", {{"index", tex[4]}, {"strength", 1.0}}},
-                   {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}}};
+  json material = {
+      {"name", "KnotPanels"},
+      {"pbrMetallicRoughness",
+       {{"baseColorTexture", {{"index", tex[0]}}},
+        {"metallicFactor", 1.0},
+        {"roughnessFactor", 1.0},
+        {"metallicRoughnessTexture", {{"index", tex[2]}}}}},
+      {"normalTexture", {{"index", tex[1]}, {"scale", 1.0}}},
+      {"emissiveTexture", {{"index", tex[3]}}},
+      {"emissiveFactor", {1.0, 1.0, 1.0}},
+      {"occlusionTexture", {{"index", tex[4]}, {"strength", 1.0}}},
+      {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}}};
   asset.doc["extensionsUsed"] = {"KHR_materials_emissive_strength"};
   asset.mesh(knot, asset.material(material));
   asset.write(outDir / "asset.glb");
@@ -723,16 +756,17 @@ int run(int argc, char** argv) {
   parts.emplace_back(makeBoulder("BoulderA", {-2.3, 0.2, 0.9}, 0.42, 301), rock);
   parts.emplace_back(makeBoulder("BoulderB", {-1.7, 0.12, 1.7}, 0.22, 302), rock);
   parts.emplace_back(makeBoulder("BoulderC", {2.5, 0.25, 0.3}, 0.5, 303), rock);
-  Mesh ball = gridSurface("ChromeBall", 128, 64,
-                     [](double u, double v) {
-                       const double a = 2 * kPi * u, b = kPi * v;
-                       return dvec3(1.35, 0.32, 1.25) +
-                              0.32 * dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
-                     },
-                     [](double u, double v) {
-                       const double a = 2 * kPi * u, b = kPi * v;
-                       return dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
-                     });
+  Mesh ball = gridSurface(
+      "ChromeBall", 128, 64,
+      [](double u, double v) {
+        const double a = 2 * kPi * u, b = kPi * v;
+        return dvec3(1.35, 0.32, 1.25) +
+               0.32 * dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
+      },
+      [](double u, double v) {
+        const double a = 2 * kPi * u, b = kPi * v;
+        return dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
+      });
   computeNormals(ball);
   parts.emplace_back(std::move(ball), chrome);
   size_t setTriangles = 0;
@@ -743,13 +777,12 @@ int run(int argc, char** argv) {
   set.write(outDir / "set.glb");
 
   // The scene.
-  json scene = {
-      {"render", {{"width", 1280}, {"height", 720}, {"spp", 64}, {"max_depth", 8}}},
-      {"camera", {{"eye", {0.3, 1.5, 4.2}}, {"look_at", {0.0, 1.08, 0.0}}, {"fov", 35}}},
-      {"materials", json::object()},
-      {"objects",
-       {{{"name", "set"}, {"shape", "mesh"}, {"file", "set.glb"}},
-        {{"name", "asset"}, {"shape", "mesh"}, {"file", "asset.glb"}}}}};
+  json scene = {{"render", {{"width", 1280}, {"height", 720}, {"spp", 64}, {"max_depth", 8}}},
+                {"camera", {{"eye", {0.3, 1.5, 4.2}}, {"look_at", {0.0, 1.08, 0.0}}, {"fov", 35}}},
+                {"materials", json::object()},
+                {"objects",
+                 {{{"name", "set"}, {"shape", "mesh"}, {"file", "set.glb"}},
+                  {{"name", "asset"}, {"shape", "mesh"}, {"file", "asset.glb"}}}}};
   if (withEnvironment) {
     std::ifstream in(env, std::ios::binary);
     if (!in) throw std::runtime_error("cannot read the environment map " + env);
@@ -764,12 +797,15 @@ int run(int argc, char** argv) {
     const double degrees = std::acos(facing.y) * 180 / kPi;
     const dvec3 at = distance * toSun;
     const double radiance = irradiance * distance * distance / (size * size);
-    scene["materials"]["sun_panel"] = {
-        {"type", "emissive"}, {"radiance", {radiance, radiance * 0.93, radiance * 0.8}}};
-    scene["objects"].push_back({{"name", "sun_panel"}, {"shape", "rectangle"}, {"size", {size, size}},
-                                {"material", "sun_panel"},
-                                {"transform", {{"rotate", {degrees, axis.x, axis.y, axis.z}},
-                                               {"translate", {at.x, at.y, at.z}}}}});
+    scene["materials"]["sun_panel"] = {{"type", "emissive"},
+                                       {"radiance", {radiance, radiance * 0.93, radiance * 0.8}}};
+    scene["objects"].push_back(
+        {{"name", "sun_panel"},
+         {"shape", "rectangle"},
+         {"size", {size, size}},
+         {"material", "sun_panel"},
+         {"transform",
+          {{"rotate", {degrees, axis.x, axis.y, axis.z}}, {"translate", {at.x, at.y, at.z}}}}});
     scene["background"] = {0.1, 0.2, 0.45};
   }
   writeText(outDir / "scene.json", scene.dump(2) + "\n");
