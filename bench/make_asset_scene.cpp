@@ -15,15 +15,15 @@
 //   sky.hdr    a copy of the environment map (--env, default scenes/env/sky.hdr);
 //   scene.json Penumbra's scene: render 1280x720, a camera on the asset, the two files as mesh
 //              objects and "environment": {"file": "sky.hdr", "strength": 1, "rotation": 0}.
-//              --no-env lights it with an emissive panel where the sky's sun is and a
-//              constant background instead (for a loader without the environment key).
 //
 // Normal-map convention (glTF's): texel = (n * 0.5 + 0.5) * 255 for the tangent-space normal
 // n = (x along dp/du, y towards the top of the image, i.e. decreasing v, z out of the surface);
 // TANGENT.w is chosen so that cross(normal, tangent) * w points to decreasing v. The heights
 // behind it are in metres, so bumps have their true slope on the surface.
 //
-// Usage: penumbra_make_asset_scene OUT_DIR [--texture-size N] [--no-env] [--env FILE]
+// Usage: penumbra_make_asset_scene OUT_DIR [--texture-size N] [--env FILE]
+#include "asset_scene_glb.h"
+
 #include <stb/stb_image_write.h>
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -46,6 +46,8 @@
 
 using glm::dvec3;
 using json = nlohmann::json;
+
+using namespace asset_scene;
 
 namespace {
 
@@ -119,13 +121,6 @@ void parallelRows(int n, const std::function<void(int)>& body) {
 }
 
 // ------------------------------------------------------------------------------ meshes
-struct Mesh {
-  std::string name;
-  std::vector<float> positions, normals, tangents, uvs;  // 3, 3, 4, 2 floats per vertex
-  std::vector<uint32_t> indices;
-  size_t vertexCount() const { return positions.size() / 3; }
-  size_t triangleCount() const { return indices.size() / 3; }
-};
 
 dvec3 positionOf(const Mesh& m, uint32_t i) {
   return dvec3(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]);
@@ -389,12 +384,6 @@ Surface pattern(double s, double t, const Extent& e) {
   return out;
 }
 
-struct Image8 {
-  std::string name;
-  int channels = 3;
-  std::vector<uint8_t> pixels;
-  std::vector<uint8_t> png;
-};
 
 // The five textures, size x size texels each; texel (i, j) (j = 0 the top row) samples
 // (s, t) = ((i + 0.5) / size, (j + 0.5) / size): glTF's uv, v down the image.
@@ -554,102 +543,6 @@ Mesh makeBoulder(const std::string& name, dvec3 at, double radius, uint32_t seed
   return m;
 }
 
-// ---------------------------------------------------------------------------- glTF files
-class Glb {
- public:
-  json doc = {{"asset", {{"version", "2.0"}, {"generator", "penumbra bench/make_asset_scene"}}},
-              {"scene", 0}};
-
-  int view(const void* data, size_t bytes, int target) {
-    while (bin_.size() % 4) bin_.push_back(0);
-    json v = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}};
-    if (target) v["target"] = target;
-    const auto* p = static_cast<const uint8_t*>(data);
-    bin_.insert(bin_.end(), p, p + bytes);
-    doc["bufferViews"].push_back(v);
-    return int(doc["bufferViews"].size() - 1);
-  }
-
-  int floats(const std::vector<float>& values, int components, const char* type, bool bounds) {
-    const size_t count = values.size() / components;
-    json a = {{"bufferView", view(values.data(), values.size() * 4, 34962)},
-              {"componentType", 5126},
-              {"count", count},
-              {"type", type}};
-    if (bounds) {
-      std::vector<float> lo(components, INFINITY), hi(components, -INFINITY);
-      for (size_t i = 0; i < values.size(); ++i) {
-        lo[i % components] = std::min(lo[i % components], values[i]);
-        hi[i % components] = std::max(hi[i % components], values[i]);
-      }
-      a["min"] = lo;
-      a["max"] = hi;
-    }
-    doc["accessors"].push_back(a);
-    return int(doc["accessors"].size() - 1);
-  }
-
-  int indices(const std::vector<uint32_t>& values) {
-    doc["accessors"].push_back({{"bufferView", view(values.data(), values.size() * 4, 34963)},
-                                {"componentType", 5125},
-                                {"count", values.size()},
-                                {"type", "SCALAR"}});
-    return int(doc["accessors"].size() - 1);
-  }
-
-  // A mesh with one primitive, on a node of its own in the scene.
-  void mesh(const Mesh& m, int material) {
-    json attributes = {{"POSITION", floats(m.positions, 3, "VEC3", true)},
-                       {"NORMAL", floats(m.normals, 3, "VEC3", false)}};
-    if (!m.tangents.empty()) attributes["TANGENT"] = floats(m.tangents, 4, "VEC4", false);
-    if (!m.uvs.empty()) attributes["TEXCOORD_0"] = floats(m.uvs, 2, "VEC2", false);
-    json primitive = {{"attributes", attributes},
-                      {"indices", indices(m.indices)},
-                      {"mode", 4},
-                      {"material", material}};
-    doc["meshes"].push_back({{"name", m.name}, {"primitives", json::array({primitive})}});
-    doc["nodes"].push_back({{"name", m.name}, {"mesh", doc["meshes"].size() - 1}});
-    doc["scenes"][0]["nodes"].push_back(doc["nodes"].size() - 1);
-  }
-
-  int image(const Image8& image) {
-    doc["images"].push_back({{"name", image.name},
-                             {"mimeType", "image/png"},
-                             {"bufferView", view(image.png.data(), image.png.size(), 0)}});
-    doc["textures"].push_back({{"sampler", 0}, {"source", doc["images"].size() - 1}});
-    return int(doc["textures"].size() - 1);
-  }
-
-  int material(json m) {
-    doc["materials"].push_back(std::move(m));
-    return int(doc["materials"].size() - 1);
-  }
-
-  void write(const std::filesystem::path& path) {
-    doc["buffers"] = json::array({{{"byteLength", bin_.size()}}});
-    std::string text = doc.dump();
-    while (text.size() % 4) text.push_back(' ');
-    while (bin_.size() % 4) bin_.push_back(0);
-    const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin_.size());
-    std::ofstream out(path, std::ios::binary);
-    auto u32 = [&](uint32_t v) {
-      out.write(reinterpret_cast<const char*>(&v), 4);
-    };                 // little-endian host
-    u32(0x46546C67u);  // "glTF"
-    u32(2);
-    u32(total);
-    u32(uint32_t(text.size()));
-    u32(0x4E4F534Au);  // "JSON"
-    out.write(text.data(), std::streamsize(text.size()));
-    u32(uint32_t(bin_.size()));
-    u32(0x004E4942u);  // "BIN\0"
-    out.write(reinterpret_cast<const char*>(bin_.data()), std::streamsize(bin_.size()));
-    if (!out) throw std::runtime_error("cannot write " + path.string());
-  }
-
- private:
-  std::vector<uint8_t> bin_;
-};
 
 json pbr(const std::string& name, dvec3 color, double metallic, double roughness) {
   return {{"name", name},
@@ -669,21 +562,65 @@ void writeText(const std::filesystem::path& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+// The set around the asset: floor, wall, columns, pedestal (its top at pedestalTop), boulders
+// and a chrome ball, written as one .glb.
+struct SetInfo {
+  size_t triangles = 0, meshes = 0;
+};
+SetInfo writeSet(const std::filesystem::path& path, double pedestalTop) {
+  Glb set;
+  std::vector<std::pair<Mesh, int>> parts;
+  const int stone = set.material(pbr("Stone", {0.42, 0.40, 0.37}, 0, 0.85));
+  const int plaster = set.material(pbr("Plaster", {0.70, 0.66, 0.58}, 0, 0.9));
+  const int marble = set.material(pbr("Column", {0.74, 0.72, 0.68}, 0, 0.55));
+  const int lacquer = set.material(pbr("Pedestal", {0.05, 0.05, 0.055}, 0, 0.3));
+  const int rock = set.material(pbr("Rock", {0.30, 0.27, 0.23}, 0, 0.8));
+  const int chrome = set.material(pbr("Chrome", {0.95, 0.93, 0.90}, 1, 0.08));
+  parts.emplace_back(makeFloor(), stone);
+  parts.emplace_back(makeWall(), plaster);
+  for (int k = 0; k < 5; ++k) {
+    const double a = kPi * (200.0 + 35.0 * k) / 180.0;
+    parts.emplace_back(makeColumn(dvec3(3.4 * std::cos(a), 0, 3.4 * std::sin(a))), marble);
+  }
+  parts.emplace_back(makePedestal(0.62, pedestalTop), lacquer);
+  parts.emplace_back(makeBoulder("BoulderA", {-2.3, 0.2, 0.9}, 0.42, 301), rock);
+  parts.emplace_back(makeBoulder("BoulderB", {-1.7, 0.12, 1.7}, 0.22, 302), rock);
+  parts.emplace_back(makeBoulder("BoulderC", {2.5, 0.25, 0.3}, 0.5, 303), rock);
+  Mesh ball = gridSurface(
+      "ChromeBall", 128, 64,
+      [](double u, double v) {
+        const double a = 2 * kPi * u, b = kPi * v;
+        return dvec3(1.35, 0.32, 1.25) +
+               0.32 * dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
+      },
+      [](double u, double v) {
+        const double a = 2 * kPi * u, b = kPi * v;
+        return dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
+      });
+  computeNormals(ball);
+  parts.emplace_back(std::move(ball), chrome);
+  size_t setTriangles = 0;
+  for (const auto& [mesh, mat] : parts) {
+    set.mesh(mesh, mat);
+    setTriangles += mesh.triangleCount();
+  }
+  set.write(path);
+  return {setTriangles, parts.size()};
+}
+
+
 int run(int argc, char** argv) {
   std::filesystem::path outDir;
   int textureSize = 2048;
-  bool withEnvironment = true;
   std::string env = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/env/sky.hdr";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--texture-size" && i + 1 < argc)
       textureSize = std::atoi(argv[++i]);
-    else if (a == "--no-env")
-      withEnvironment = false;
     else if (a == "--env" && i + 1 < argc)
       env = argv[++i];
     else if (a == "-h" || a == "--help") {
-      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--no-env] [--env FILE.hdr]\n",
+      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--env FILE.hdr]\n",
                   argv[0]);
       return 0;
     } else if (outDir.empty() && !a.empty() && a[0] != '-')
@@ -737,44 +674,7 @@ int run(int argc, char** argv) {
   asset.mesh(knot, asset.material(material));
   asset.write(outDir / "asset.glb");
 
-  // The set.
-  Glb set;
-  std::vector<std::pair<Mesh, int>> parts;
-  const int stone = set.material(pbr("Stone", {0.42, 0.40, 0.37}, 0, 0.85));
-  const int plaster = set.material(pbr("Plaster", {0.70, 0.66, 0.58}, 0, 0.9));
-  const int marble = set.material(pbr("Column", {0.74, 0.72, 0.68}, 0, 0.55));
-  const int lacquer = set.material(pbr("Pedestal", {0.05, 0.05, 0.055}, 0, 0.3));
-  const int rock = set.material(pbr("Rock", {0.30, 0.27, 0.23}, 0, 0.8));
-  const int chrome = set.material(pbr("Chrome", {0.95, 0.93, 0.90}, 1, 0.08));
-  parts.emplace_back(makeFloor(), stone);
-  parts.emplace_back(makeWall(), plaster);
-  for (int k = 0; k < 5; ++k) {
-    const double a = kPi * (200.0 + 35.0 * k) / 180.0;
-    parts.emplace_back(makeColumn(dvec3(3.4 * std::cos(a), 0, 3.4 * std::sin(a))), marble);
-  }
-  parts.emplace_back(makePedestal(0.62, kPedestalTop), lacquer);
-  parts.emplace_back(makeBoulder("BoulderA", {-2.3, 0.2, 0.9}, 0.42, 301), rock);
-  parts.emplace_back(makeBoulder("BoulderB", {-1.7, 0.12, 1.7}, 0.22, 302), rock);
-  parts.emplace_back(makeBoulder("BoulderC", {2.5, 0.25, 0.3}, 0.5, 303), rock);
-  Mesh ball = gridSurface(
-      "ChromeBall", 128, 64,
-      [](double u, double v) {
-        const double a = 2 * kPi * u, b = kPi * v;
-        return dvec3(1.35, 0.32, 1.25) +
-               0.32 * dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
-      },
-      [](double u, double v) {
-        const double a = 2 * kPi * u, b = kPi * v;
-        return dvec3(std::sin(b) * std::cos(a), std::cos(b), std::sin(b) * std::sin(a));
-      });
-  computeNormals(ball);
-  parts.emplace_back(std::move(ball), chrome);
-  size_t setTriangles = 0;
-  for (const auto& [mesh, mat] : parts) {
-    set.mesh(mesh, mat);
-    setTriangles += mesh.triangleCount();
-  }
-  set.write(outDir / "set.glb");
+  const SetInfo set = writeSet(outDir / "set.glb", kPedestalTop);
 
   // The scene.
   json scene = {{"render", {{"width", 1280}, {"height", 720}, {"spp", 64}, {"max_depth", 8}}},
@@ -783,39 +683,18 @@ int run(int argc, char** argv) {
                 {"objects",
                  {{{"name", "set"}, {"shape", "mesh"}, {"file", "set.glb"}},
                   {{"name", "asset"}, {"shape", "mesh"}, {"file", "asset.glb"}}}}};
-  if (withEnvironment) {
-    std::ifstream in(env, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read the environment map " + env);
-    writeText(outDir / "sky.hdr", std::string(std::istreambuf_iterator<char>(in), {}));
-    scene["environment"] = {{"file", "sky.hdr"}, {"strength", 1}, {"rotation", 0}};
-  } else {
-    // The default sky's sun (elevation 35, azimuth 120) as a 3 m panel 14 m away giving about
-    // the same irradiance (4.4 facing it), and the sky as a constant background.
-    const dvec3 toSun(-0.409576, 0.573576, 0.709406);
-    const double distance = 14, size = 3, irradiance = 4.4;
-    const dvec3 facing = -toSun, axis = glm::normalize(glm::cross(dvec3(0, 1, 0), facing));
-    const double degrees = std::acos(facing.y) * 180 / kPi;
-    const dvec3 at = distance * toSun;
-    const double radiance = irradiance * distance * distance / (size * size);
-    scene["materials"]["sun_panel"] = {{"type", "emissive"},
-                                       {"radiance", {radiance, radiance * 0.93, radiance * 0.8}}};
-    scene["objects"].push_back(
-        {{"name", "sun_panel"},
-         {"shape", "rectangle"},
-         {"size", {size, size}},
-         {"material", "sun_panel"},
-         {"transform",
-          {{"rotate", {degrees, axis.x, axis.y, axis.z}}, {"translate", {at.x, at.y, at.z}}}}});
-    scene["background"] = {0.1, 0.2, 0.45};
-  }
+  std::ifstream in(env, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read the environment map " + env);
+  writeText(outDir / "sky.hdr", std::string(std::istreambuf_iterator<char>(in), {}));
+  scene["environment"] = {{"file", "sky.hdr"}, {"strength", 1}, {"rotation", 0}};
   writeText(outDir / "scene.json", scene.dump(2) + "\n");
 
   std::printf("asset.glb: %zu triangles, %zu vertices, 5 textures %dx%d (%.1f MB of PNG)\n",
               knot.triangleCount(), knot.vertexCount(), textureSize, textureSize,
               textureBytes / 1e6);
-  std::printf("set.glb: %zu triangles in %zu meshes\n", setTriangles, parts.size());
+  std::printf("set.glb: %zu triangles in %zu meshes\n", set.triangles, set.meshes);
   std::printf("total: %zu triangles; texture surface %.3f m x %.3f m per repeat\n",
-              knot.triangleCount() + setTriangles, extent.s, extent.t);
+              knot.triangleCount() + set.triangles, extent.s, extent.t);
   std::printf("time: %.2f s (texture patterns %.2f s, PNG encoding %.2f s)\n", seconds(start),
               patternSeconds, pngSeconds);
   std::printf("wrote %s\n", (outDir / "scene.json").string().c_str());

@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # Builds the asset-scene generator and writes the asset benchmark scene (docs/BENCHMARKS.md)
 # into build/bench/asset_scene/ (or the folder given first). Extra arguments go to the
-# generator: --texture-size N (2048), --no-env (an emissive panel and a constant background
-# instead of the environment map), --env FILE.hdr (scenes/env/sky.hdr).
+# generator: --texture-size N (2048), --env FILE.hdr (scenes/env/sky.hdr).
 #   scripts/make_asset_scene.sh
 #   scripts/make_asset_scene.sh /tmp/asset_small --texture-size 256
 set -euo pipefail

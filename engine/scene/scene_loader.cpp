@@ -613,7 +613,7 @@ Scene parseSceneJson(const std::string& text, const std::string& path, const std
     for (const auto& item : root["textures"].items())
       textures[item.key()] = readTexture(r, item.value(), "textures." + item.key(), scene);
   }
-  if (!root.contains("materials") || !root["materials"].is_object() || root["materials"].empty())
+  if (!root.contains("materials") || !root["materials"].is_object())
     r.fail("materials", "expected an object of named materials");
   for (const auto& item : root["materials"].items()) {
     Material m = readMaterial(r, item.value(), "materials." + item.key(), textures);

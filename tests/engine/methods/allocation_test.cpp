@@ -161,18 +161,18 @@ TEST_P(Baseline, SpendsExactlyTheBudget) {
   }
 }
 
-// A diffuse floor under a uniform white sky, seen from straight above (image x is world
-// x). The left half of the image sees a uniform albedo: every sample of a pixel there has
-// exactly the same radiance, since the bounce ray always escapes to the sky. The right
-// half sees a checker of about 2.7 cells per pixel with the same mean albedo: its
-// pixels' samples are 0.1 or 0.9, so their means are noisy.
+// A floor under a uniform white sky, seen from straight above (image x is world x). The
+// left half of the image is a uniform emitter that reflects nothing: every sample of a pixel
+// there has exactly the same radiance, its emission. The right half is a diffuse checker of
+// about 2.7 cells per pixel under the sky: its pixels' samples are 0.1 or 0.9 times the sky
+// (and the noise of sampling it), so their means are noisy.
 std::unique_ptr<PreparedScene> flatAndNoisyHalves(int width, int height) {
   Scene scene = parseSceneJson(R"({
     "render": {"max_depth": 4},
     "camera": {"eye": [0, 2, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 53.130102},
     "background": 1,
     "textures": {"fine": {"type": "checker", "colors": [0.1, 0.9], "scale": [96, 96]}},
-    "materials": {"flat": {"type": "diffuse", "albedo": 0.5},
+    "materials": {"flat": {"type": "emissive", "radiance": 0.5},
                   "checker": {"type": "diffuse", "albedo": "fine"}},
     "objects": [
       {"shape": "rectangle", "size": [3, 3], "material": "flat",
