@@ -381,5 +381,25 @@ expect_fail "view bad window size" "--window-size" env -u DISPLAY "${view_env[@]
 expect_fail "view missing scene" "nowhere.json" env -u DISPLAY "${view_env[@]}" "$penumbra" view "$work/nowhere.json" --headless --screenshot "$work/x.png"
 [ -e "$work/x.png" ] && { echo "FAIL: a failed view left a screenshot"; failures=$((failures + 1)); }
 
+# The environment. An OBJ file with no lights opens lit by the built-in environment and says so;
+# --env none turns it off; a JSON scene is the author's and gets none.
+printf 'v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n' >"$work/quad.obj"
+"$penumbra" render "$work/quad.obj" --size 16x16 --spp 1 -q -o "$work/quad.png" 2>"$work/quad_err.txt"
+check "an unlit OBJ notes the built-in environment" grep -q "built-in studio environment lights it (--env none turns it off" "$work/quad_err.txt"
+"$penumbra" render "$work/quad.obj" --env none --size 16x16 --spp 1 -q -o "$work/quad_dark.png" 2>"$work/quad_err.txt"
+check "--env none: no note" test ! -s "$work/quad_err.txt"
+"$penumbra" render "$cornell" --size 16x16 --spp 1 -q -o "$work/c.png" 2>"$work/c_err.txt"
+check "a JSON scene gets no default environment" test ! -s "$work/c_err.txt"
+expect_ok "render under an environment map" "$penumbra" render "$cornell" --env "$src/scenes/env/sky.hdr" --env-strength 2 --env-rotation 90 --size 16x16 --spp 1 -q -o "$work/sky.png"
+expect_ok "transparent EXR" "$penumbra" render "$work/quad.obj" --transparent --size 16x16 --spp 1 -q -o "$work/quad.exr"
+expect_fail "missing environment map" "nowhere.hdr" "$penumbra" render "$cornell" --env "$work/nowhere.hdr" -o "$work/x.png"
+expect_fail "strength without an environment" "--env-strength" "$penumbra" render "$cornell" --env-strength 2 -o "$work/x.png"
+expect_fail "transparent PFM" "PFM cannot hold" "$penumbra" render "$cornell" --transparent -o "$work/x.pfm"
+printf '{"materials": {"m": {"type": "diffuse"}}, "objects": [{"shape": "sphere", "material": "m"}], "environment": {"file": "nowhere.hdr"}}' >"$work/env_missing.json"
+expect_fail "scene with a missing environment map" "environment.file" "$penumbra" render "$work/env_missing.json" -o "$work/x.png"
+printf 'not a picture' >"$work/bad.hdr"
+expect_fail "malformed environment map" "bad.hdr: cannot decode image" "$penumbra" render "$cornell" --env "$work/bad.hdr" -o "$work/x.png"
+[ -e "$work/x.png" ] && { echo "FAIL: a failed render left an image"; failures=$((failures + 1)); }
+
 echo "$passes passed, $failures failed"
 [ $failures -eq 0 ]

@@ -92,6 +92,27 @@ TEST(ImageIo, ExrRoundTripIsExact) {
   expectExactlyEqual(readImage(path), image);
 }
 
+TEST(ImageIo, AlphaGoesIntoExrAndStraightIntoPng) {
+  const std::string dir = freshDir("alpha");
+  Image image(2, 1);
+  image.at(0, 0) = vec3(0.25f);  // premultiplied by alpha 0.5: straight 0.5
+  const std::vector<float> alpha = {0.5f, 0.0f};
+  writeImage(dir + "/a.exr", image, 0.0f, &alpha);
+  const auto channels = readExrChannels(dir + "/a.exr");
+  ASSERT_EQ(channels.size(), 4u);
+  EXPECT_EQ(channels[0].first, "A");  // sorted by name
+  EXPECT_EQ(channels[0].second, alpha);
+  writeImage(dir + "/a.png", image, 0.0f, &alpha);
+  int w = 0, h = 0;
+  const std::vector<uint8_t> rgba = readPng8(dir + "/a.png", w, h);
+  ASSERT_EQ(rgba.size(), 8u);
+  EXPECT_EQ(rgba[0], uint8_t(std::lround(linearToSrgb(0.5f) * 255)));  // straight colour
+  EXPECT_EQ(rgba[3], 128);
+  EXPECT_EQ(rgba[7], 0);
+  expectIoError([&] { writeImage(dir + "/a.pfm", image, 0.0f, &alpha); }, dir + "/a.pfm",
+                "no alpha channel");
+}
+
 TEST(ImageIo, PfmRoundTripIsExact) {
   const std::string path = freshDir("pfm") + "/image.pfm";
   const Image image = hdrTestImage();
