@@ -57,7 +57,9 @@ fi
 [ -x "$base_bin" ] || { echo "image_regression: no base build at $base_bin" >&2; exit 2; }
 
 export PENUMBRA_NET_SIMD=sse DISPLAY=
-scenes=(balls cornell dragon stairs tire)
+scenes=(balls cornell dragon stairs tire studio)
+# A case's scene file: scenes/NAME.json, or the glTF studio (scripts/make_studio.py).
+scene_file() { if [ "$1" = studio ]; then echo scenes/studio/studio.gltf; else echo "scenes/$1.json"; fi; }
 # name|render flags. Adaptive methods also write their raw estimate and their debug maps.
 cases=(
   "ld|--method ld --variance-out VAR"
@@ -102,7 +104,7 @@ run_all() {  # binary, output folder
       mkdir -p "$d"
       f=${flags//VAR/$d/var.exr}; f=${f//RAW/$d/raw.exr}; f=${f//AOV/$d/aov}
       # shellcheck disable=SC2086
-      "$bin" render "scenes/$scene.json" --size 64x64 --spp 8 --seed 7 --threads 2 -q \
+      "$bin" render "$(scene_file "$scene")" --size 64x64 --spp 8 --seed 7 --threads 2 -q \
         -o "$d/image.exr" $f >"$d/log.txt" 2>&1 || { echo "  $scene/$name failed:"; cat "$d/log.txt"; }
     done
   done

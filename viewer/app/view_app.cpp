@@ -200,6 +200,7 @@ void ViewerApp::restart() {
   if (view_.inspectX >= 0) inspectInSession(view_.inspectX, view_.inspectY);
   ++restarts_;
   firstPreviewSeconds_ = -1;
+  fullPictureShown_ = false;
   mseHistory_.clear();
   if (options_.preview) {
     // Drawn here, on the UI thread, so the new view shows within a frame whatever the
@@ -240,6 +241,11 @@ bool ViewerApp::update() {
     if (snapshot_ && firstPreviewSeconds_ < 0) {
       firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
       firstPictureTimes_.push_back(firstPreviewSeconds_);
+    }
+    // A method's snapshot has a sample in every pixel (its first round samples them all).
+    if (snapshot_ && !fullPictureShown_ && snapshot_->source == SnapshotSource::Method) {
+      fullPictureShown_ = true;
+      firstFullPictureTimes_.push_back(secondsBetween(restartTime_, Clock::now()));
     }
     // (The reference's error is of the whole image: not measured while a region renders.)
     if (snapshot_ && options_.reference && snapshot_->source != SnapshotSource::Preview &&

@@ -94,6 +94,8 @@ class ViewerApp {
   }
   // Seconds from each (re)start to its first picture.
   const std::vector<double>& firstPictureTimes() const { return firstPictureTimes_; }
+  // Restart to the first picture of the method itself (every pixel sampled), per restart.
+  const std::vector<double>& firstFullPictureTimes() const { return firstFullPictureTimes_; }
   const FrameStats& frameStats() const { return frameStats_; }
   // The window times whole frames (draw and swap) itself; drawFrame times only its own work.
   void recordFrame(double seconds) { frameStats_.add(seconds); }
@@ -141,6 +143,8 @@ class ViewerApp {
   std::chrono::steady_clock::time_point restartTime_;
   double firstPreviewSeconds_ = -1;  // restart to first snapshot, the last restart
   std::vector<double> firstPictureTimes_;
+  bool fullPictureShown_ = false;  // since the last restart
+  std::vector<double> firstFullPictureTimes_;
 
   // View and input.
   ViewState view_;

@@ -91,5 +91,55 @@ TEST(ViewerApp, EveryMethodStopsAtTheTimeLimit) {
   }
 }
 
+// Waits (at most `seconds`) until the app has shown `count` full pictures.
+bool waitForFullPictures(ViewerApp& app, size_t count, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    app.update();
+    if (app.firstFullPictureTimes().size() >= count) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+// Each restart times its first picture (the block preview, at once) and its first full one
+// (the method's first round), which the window's --report averages.
+TEST(ViewerApp, EveryRestartTimesItsFirstFullPicture) {
+  ViewOptions o = cornell(32);
+  o.preview = true;
+  ViewerApp app(o);
+  for (size_t restart = 1; restart <= 3; ++restart) {
+    ASSERT_TRUE(waitForFullPictures(app, restart, 30)) << "restart " << restart;
+    EXPECT_EQ(app.firstPictureTimes().size(), restart);
+    EXPECT_EQ(app.snapshot()->source, SnapshotSource::Method);
+    EXPECT_GE(app.firstFullPictureTimes().back(), app.firstPictureTimes().back());
+    if (restart < 3) app.restart();
+  }
+  EXPECT_EQ(app.firstFullPictureTimes().size(), 3u);
+}
+
+// The panel's environment: a map lights the scene and stays when only the strength changes; a
+// map that cannot be read leaves everything as it was.
+TEST(ViewerApp, ThePanelChangesTheEnvironment) {
+  ViewerApp app(cornell(16));
+  EXPECT_FALSE(app.options().scene->scene.environment.present());
+  const std::string sky = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/env/sky.hdr";
+  app.setEnvironment({sky, 2.0f, 30.0f});
+  const Environment& e = app.options().scene->scene.environment;
+  ASSERT_TRUE(e.present());
+  EXPECT_EQ(e.file, sky);
+  EXPECT_EQ(e.strength, 2.0f);
+  EXPECT_EQ(e.rotationDegrees, 30.0f);
+  EXPECT_TRUE(app.options().scene->lights.environment != nullptr);
+  app.setEnvironment({"", 0.5f, 0.0f});  // the strength alone keeps the map
+  EXPECT_EQ(app.options().scene->scene.environment.file, sky);
+  EXPECT_EQ(app.options().scene->scene.environment.strength, 0.5f);
+  app.setEnvironment({"/nowhere/sky.hdr", 1.0f, 0.0f});
+  EXPECT_NE(app.lastMessage().find("nowhere"), std::string::npos) << app.lastMessage();
+  EXPECT_EQ(app.options().scene->scene.environment.file, sky);
+  app.setEnvironment({"none", 1.0f, 0.0f});
+  EXPECT_FALSE(app.options().scene->scene.environment.present());
+}
+
 }  // namespace
 }  // namespace penumbra
