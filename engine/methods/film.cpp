@@ -129,23 +129,55 @@ Image Film::varianceOfMeanImage() const {
   return image;
 }
 
-FilmBuffers Film::buffers() const {
+FilmBuffers Film::buffers(unsigned parts) const {
   const size_t n = pixels_.size();
+  const bool radiance = parts & FilmBuffers::kRadiance, features = parts & FilmBuffers::kFeatures,
+             featureVariances = parts & FilmBuffers::kFeatureVariances,
+             emissionVariance = parts & FilmBuffers::kEmissionVariance;
   FilmBuffers b;
   b.width = width_;
   b.height = height_;
-  b.mean.resize(n);
-  b.variance.resize(n);
-  b.halfA.resize(n);
-  b.halfB.resize(n);
-  b.emission.resize(n);
-  b.emissionVariance.resize(n);
-  b.albedo.resize(n);
-  b.albedoVariance.resize(n);
-  b.normal.resize(n);
-  b.normalVariance.resize(n);
-  b.depth.resize(n);
-  b.depthVariance.resize(n);
+  if (radiance) {
+    b.mean.resize(n);
+    b.variance.resize(n);
+    b.halfA.resize(n);
+    b.halfB.resize(n);
+  }
+  if (features) {
+    b.emission.resize(n);
+    b.albedo.resize(n);
+    b.normal.resize(n);
+    b.depth.resize(n);
+  }
+  if (emissionVariance) b.emissionVariance.resize(n);
+  if (featureVariances) {
+    b.albedoVariance.resize(n);
+    b.normalVariance.resize(n);
+    b.depthVariance.resize(n);
+  }
+  const float depthScale = this->depthScale();
+  for (size_t p = 0; p < n; ++p) {
+    const FilmPixel& px = pixels_[p];
+    // Variances of the means of the features: the sample variance over the count.
+    const float perSample = px.meanVarianceScale();
+    if (radiance) radianceBuffers(p, b);
+    if (features) {
+      b.emission[p] = px.emission;
+      b.albedo[p] = px.albedo;
+      b.normal[p] = px.normal;
+      b.depth[p] = px.depth * depthScale;
+    }
+    if (emissionVariance) b.emissionVariance[p] = px.emissionM2 * perSample;
+    if (featureVariances) {
+      b.albedoVariance[p] = px.albedoM2 * perSample;
+      b.normalVariance[p] = px.normalM2 * perSample;
+      b.depthVariance[p] = px.depthM2 * perSample * depthScale * depthScale;
+    }
+  }
+  return b;
+}
+
+float Film::depthScale() const {
   double depthSum = 0;
   size_t depthCount = 0;
   for (const FilmPixel& px : pixels_)
@@ -153,52 +185,36 @@ FilmBuffers Film::buffers() const {
       depthSum += px.depth;
       ++depthCount;
     }
-  const float depthScale = depthCount && depthSum > 0 ? float(depthCount / depthSum) : 1.0f;
-  for (size_t p = 0; p < n; ++p) {
-    const FilmPixel& px = pixels_[p];
-    // Variances of the means of the features: the sample variance over the count.
-    const float perSample = px.meanVarianceScale();
-    b.mean[p] = vec3(px.mean);
-    b.variance[p] = px.residualM2 * perSample;
-    const uint32_t countB = px.count - px.countA;
-    const vec3 restA = px.countA ? vec3(px.residualSumA / double(px.countA)) : vec3(0.0f);
-    const vec3 restB =
-        countB
-            ? vec3((glm::dvec3(px.residual) * double(px.count) - px.residualSumA) / double(countB))
-            : vec3(0.0f);
-    b.halfA[p] = restA + px.emission;
-    b.halfB[p] = restB + px.emission;
-    if (stratified(p)) {
-      // The stratified estimate and its variance (which here includes the emission's: an
-      // over-estimate only where emitters are seen directly), and stratified halves once
-      // every slice has samples in both.
-      b.mean[p] = vec3(estimate(p));
-      b.variance[p] = estimateVarianceOfMean(p);
-      const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
-      bool halves = true;
-      glm::dvec3 a(0.0), bb(0.0);
-      for (int k = 0; k < slicesPerPixel() && halves; ++k) {
-        const uint32_t countB = s[k].count - s[k].countA;
-        halves = s[k].countA > 0 && countB > 0;
-        if (!halves) break;
-        a += s[k].sumA / double(s[k].countA);
-        bb += (s[k].mean * double(s[k].count) - s[k].sumA) / double(countB);
-      }
-      if (halves) {
-        b.halfA[p] = vec3(a / double(slicesPerPixel()));
-        b.halfB[p] = vec3(bb / double(slicesPerPixel()));
-      }
-    }
-    b.emission[p] = px.emission;
-    b.emissionVariance[p] = px.emissionM2 * perSample;
-    b.albedo[p] = px.albedo;
-    b.albedoVariance[p] = px.albedoM2 * perSample;
-    b.normal[p] = px.normal;
-    b.normalVariance[p] = px.normalM2 * perSample;
-    b.depth[p] = px.depth * depthScale;
-    b.depthVariance[p] = px.depthM2 * perSample * depthScale * depthScale;
+  return depthCount && depthSum > 0 ? float(depthCount / depthSum) : 1.0f;
+}
+
+void Film::radianceBuffers(size_t p, FilmBuffers& b) const {
+  const FilmPixel& px = pixels_[p];
+  b.mean[p] = vec3(px.mean);
+  b.variance[p] = px.residualM2 * px.meanVarianceScale();
+  const uint32_t countB = px.count - px.countA;
+  const vec3 restA = px.countA ? vec3(px.residualSumA / double(px.countA)) : vec3(0.0f);
+  const vec3 restB =
+      countB ? vec3((glm::dvec3(px.residual) * double(px.count) - px.residualSumA) / double(countB))
+             : vec3(0.0f);
+  b.halfA[p] = restA + px.emission;
+  b.halfB[p] = restB + px.emission;
+  if (!stratified(p)) return;
+  // The stratified estimate and its variance (which here includes the emission's: an
+  // over-estimate only where emitters are seen directly), and stratified halves once every
+  // slice has samples in both.
+  b.mean[p] = vec3(estimate(p));
+  b.variance[p] = estimateVarianceOfMean(p);
+  const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
+  glm::dvec3 a(0.0), bb(0.0);
+  for (int k = 0; k < slicesPerPixel(); ++k) {
+    const uint32_t sliceCountB = s[k].count - s[k].countA;
+    if (s[k].countA == 0 || sliceCountB == 0) return;
+    a += s[k].sumA / double(s[k].countA);
+    bb += (s[k].mean * double(s[k].count) - s[k].sumA) / double(sliceCountB);
   }
-  return b;
+  b.halfA[p] = vec3(a / double(slicesPerPixel()));
+  b.halfB[p] = vec3(bb / double(slicesPerPixel()));
 }
 
 }  // namespace penumbra

@@ -64,6 +64,16 @@ struct FilmSlice {
 // that half - emission is the half's filtered part). Depth is divided by the image's mean
 // depth, so that feature weights do not depend on the scene's units.
 struct FilmBuffers {
+  // Which of them Film::buffers fills (the others stay empty): the radiance's (mean, variance
+  // and halves), the features' means (emission, albedo, normal, depth), the features' variances
+  // of the mean, the emission's.
+  enum Parts : unsigned {
+    kRadiance = 1u,
+    kFeatures = 2u,
+    kFeatureVariances = 4u,
+    kEmissionVariance = 8u,
+    kAll = 15u
+  };
   int width = 0, height = 0;
   std::vector<vec3> mean, variance, halfA, halfB, emission, emissionVariance;
   std::vector<vec3> albedo, albedoVariance, normal;
@@ -104,7 +114,9 @@ class Film {
 
   Image meanImage() const;  // the estimates
   Image varianceOfMeanImage() const;
-  FilmBuffers buffers() const;
+  FilmBuffers buffers(unsigned parts = FilmBuffers::kAll) const;
+  // What FilmBuffers' depths are multiplied by: 1 / the mean depth of the pixels that have one.
+  float depthScale() const;
   size_t memoryBytes() const {
     return pixels_.capacity() * sizeof(FilmPixel) + slices_.capacity() * sizeof(FilmSlice);
   }
@@ -114,6 +126,9 @@ class Film {
   std::vector<FilmPixel> pixels_;
   int slicesPerSide_ = 0;
   std::vector<FilmSlice> slices_;
+
+  // Pixel p's radiance buffers (mean, variance, halves) in b.
+  void radianceBuffers(size_t p, FilmBuffers& b) const;
 };
 
 }  // namespace penumbra

@@ -11,7 +11,10 @@ namespace penumbra {
 
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel) {
-  const FilmBuffers b = film.buffers();
+  // The emission's variance is not read; the buffers but the mean go once the filter has read
+  // them (they are as large as the filter's own planes).
+  FilmBuffers b =
+      film.buffers(FilmBuffers::kRadiance | FilmBuffers::kFeatures | FilmBuffers::kFeatureVariances);
   recon::DenoiseInput in;
   in.width = b.width;
   in.height = b.height;
@@ -26,7 +29,14 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
   in.normalVariance = b.normalVariance;
   in.depth = b.depth;
   in.depthVariance = b.depthVariance;
-  return recon::denoise(in, config, cancel);
+  return recon::denoise(in, config, cancel, [&b] {
+    // All but the mean, which `in` still points into.
+    for (std::vector<vec3>* v : {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo,
+                                 &b.albedoVariance, &b.normal})
+      std::vector<vec3>().swap(*v);
+    for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
+      std::vector<float>().swap(*v);
+  });
 }
 
 float relativeErrorRegulariser(vec3 mean) {
@@ -72,14 +82,17 @@ double meanOf(const std::vector<float>& values) {
 void addFilmMaps(Snapshot& snap, const Film& film) {
   const size_t n = film.pixelCount();
   std::vector<float> albedo(3 * n), normal(3 * n), depth(n), emission(3 * n);
-  const FilmBuffers b = film.buffers();
-  for (size_t p = 0; p < n; ++p)
+  // As FilmBuffers has them, read from the film (no copy of its buffers).
+  const float depthScale = film.depthScale();
+  for (size_t p = 0; p < n; ++p) {
+    const FilmPixel& px = film[p];
     for (int k = 0; k < 3; ++k) {
-      albedo[3 * p + k] = b.albedo[p][k];
-      normal[3 * p + k] = 0.5f + 0.5f * b.normal[p][k];
-      emission[3 * p + k] = b.emission[p][k];
-      depth[p] = b.depth[p];
+      albedo[3 * p + k] = px.albedo[k];
+      normal[3 * p + k] = 0.5f + 0.5f * px.normal[k];
+      emission[3 * p + k] = px.emission[k];
     }
+    depth[p] = px.depth * depthScale;
+  }
   snap.addMap(maps::Albedo, "albedo", std::move(albedo), MapLegend::rgb());
   snap.addMap(maps::Normal, "normal (0.5 + 0.5 n)", std::move(normal), MapLegend::rgb());
   const float depthTop = std::max(1e-3f, percentileOf(depth, 0.99f));

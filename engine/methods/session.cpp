@@ -8,7 +8,6 @@
 
 #include <chrono>
 #include <utility>
-#include <vector>
 
 namespace penumbra {
 
@@ -148,29 +147,24 @@ bool RenderSession::wait(double timeoutSeconds) {
 }
 
 // What the worker thread keeps between rounds: the running method with the factory that owns
-// what it refers to (the prepared scene), the methods it replaced, and when the last snapshot
-// was published and what it cost (the publishing rule in runRound).
+// what it refers to (the prepared scene), and when the last snapshot was published and what it
+// cost (the publishing rule in runRound).
 struct RenderSession::Worker {
   explicit Worker(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
   tbb::task_arena arena;
   MethodFactory activeFactory;
   std::unique_ptr<ProgressiveMethod> method;
   uint64_t methodGeneration = 0;
-  // A replaced method is freed only after its successor has published its first snapshot:
-  // freeing a large method's per-pixel state takes tens of milliseconds, which would
-  // otherwise delay the first picture after a restart. (Each keeps the factory that owns
-  // what it refers to.)
-  std::vector<std::pair<std::unique_ptr<ProgressiveMethod>, MethodFactory>> retired;
   bool publishedOnce = false;
   std::chrono::steady_clock::time_point lastPublish{};
   double lastSnapshotCost = 0;
 
+  // Frees the method (then the factory that owns what it refers to). Only the worker thread
+  // touches the method, and only between rounds, when none of its tasks runs: a replaced
+  // method goes at once, before its successor is made, so rapid restarts (a camera drag)
+  // never hold two methods' per-pixel state.
   void drop() {
     method.reset();
-    activeFactory = nullptr;
-  }
-  void retire() {
-    if (method) retired.emplace_back(std::move(method), std::move(activeFactory));
     activeFactory = nullptr;
   }
 };
@@ -190,6 +184,12 @@ void RenderSession::takeInspection(Worker& w, std::unique_lock<std::mutex>& held
 }
 
 void RenderSession::serveIdle(Worker& w, std::unique_lock<std::mutex>& lock) {
+  if (w.method && w.methodGeneration != generation_) {
+    // Cancelled (or replaced) while no round ran: nothing of it is published any more.
+    lock.unlock();
+    w.drop();
+    lock.lock();
+  }
   if (publishPending_ && w.method && w.methodGeneration == generation_) {
     const uint64_t generation = generation_;
     cancelRound_ = false;  // a restart meanwhile cuts the reconstruction short
@@ -220,7 +220,7 @@ RenderSession::RoundResult RenderSession::runRound(Worker& w, const RoundRequest
   RoundResult r;
   try {
     if (!w.method || w.methodGeneration != request.generation) {
-      w.retire();
+      w.drop();
       w.activeFactory = request.factory;
       w.method = w.activeFactory();
       w.methodGeneration = request.generation;
@@ -287,10 +287,11 @@ void RenderSession::worker() {
     RoundResult r = runRound(w, request);
     lock.lock();
     if (request.generation != generation_) {
-      // Restarted or cancelled meanwhile: this round's result belongs to the old method,
-      // which goes once the next one has shown something.
+      // Restarted or cancelled meanwhile: this round's result belongs to the old method, which
+      // goes now (its round has returned).
+      r = RoundResult{};
       lock.unlock();
-      w.retire();
+      w.drop();
       lock.lock();
       continue;
     }
@@ -322,11 +323,6 @@ void RenderSession::worker() {
       idle_.notify_all();
     } else if (stepsLeft_ > 0) {
       --stepsLeft_;
-    }
-    if (published && !w.retired.empty()) {
-      lock.unlock();
-      w.retired.clear();
-      lock.lock();
     }
   }
 }

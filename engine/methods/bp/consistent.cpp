@@ -52,14 +52,20 @@ class ConsistentMethod final : public ProgressiveMethod {
                    const BpConsistentConfig& config)
       : ProgressiveMethod(shape),
         config_(config),
-        s_(prepared, shape, config, config.effectiveCoarseSpp(shape), kHistogramLevels),
+        // Without networks the film holds every sum the algorithm reads: no sample store.
+        s_(prepared, shape, config, config.effectiveCoarseSpp(shape), kHistogramLevels,
+           config.usesNetworks()),
         film_(s_.width, s_.height),
-        trainedAt_(s_.pixelCount, 0),
         drawn_(s_.pixelCount, 0),
         rays_(s_.pixelCount, 0),
-        errorAtReconstruction_(s_.pixelCount, 0.0f),
-        countAtReconstruction_(s_.pixelCount, 0),
+        addedLastRound_(s_.pixelCount, 0),
         setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {
+    if (usesNetworks()) trainedAt_.assign(s_.pixelCount, 0);
+    // Only the noise threshold refreshes the filtered image's error estimate.
+    if (shape.noiseThreshold > 0) {
+      errorAtReconstruction_.assign(s_.pixelCount, 0.0f);
+      countAtReconstruction_.assign(s_.pixelCount, 0);
+    }
     if (config.sliceSteering) {
       film_.enableSlices(config.slicesPerSide);
       sliceDrawn_.assign(s_.pixelCount * size_t(film_.slicesPerPixel()), 0);
@@ -85,10 +91,7 @@ class ConsistentMethod final : public ProgressiveMethod {
     for (size_t p = 0; p < s_.pixelCount; ++p) sum += currentError(p);
     return sum / double(s_.pixelCount);
   }
-  size_t memoryBytes() const override {
-    return s_.store.memoryBytes() + s_.nets.capacity() * sizeof(PixelNet) + film_.memoryBytes() +
-           s_.pixelCount * (3 * sizeof(uint32_t) + sizeof(float));
-  }
+  size_t memoryBytes() const override;
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
                                      const std::atomic<bool>* cancel) override;
   PixelInspection inspect(int x, int y) const override;
@@ -118,8 +121,10 @@ class ConsistentMethod final : public ProgressiveMethod {
   void refreshErrors(const std::atomic<bool>* cancel);
   // The error each pixel is ranked by now.
   std::vector<float> allocationError() const;
-  // The filtered pixel's estimated relMSE now: the last estimate, falling as 1/n since.
+  // The filtered pixel's estimated relMSE now: the last estimate, falling as 1/n since (0
+  // without an estimate: only the noise threshold makes one).
   float currentError(size_t p) const {
+    if (errorAtReconstruction_.empty()) return 0.0f;
     const uint32_t now = std::max<uint32_t>(1, film_[p].count);
     return errorAtReconstruction_[p] * float(std::max<uint32_t>(1, countAtReconstruction_[p])) /
            float(now);
@@ -137,25 +142,46 @@ class ConsistentMethod final : public ProgressiveMethod {
   const BpConsistentConfig config_;
   BpState s_;
   Film film_;
-  std::vector<uint32_t> sliceDrawn_;          // with slice steering: samples drawn in each slice
-  std::vector<uint32_t> trainedAt_;           // kept samples at the network's last training
-  std::vector<uint32_t> drawn_;               // sample indices used from the pixel's stream
+  std::vector<uint32_t> sliceDrawn_;  // with slice steering: samples drawn in each slice
+  std::vector<uint32_t> trainedAt_;   // with networks: kept samples at the network's last training
+  // Sample indices used from the pixel's stream: the camera samples it traced.
+  std::vector<uint32_t> drawn_;
   std::vector<uint32_t> rays_;                // rays its samples cast: their cost
   uint64_t totalRays_ = 0, totalTraced_ = 0;  // their sums over the image
+  std::vector<uint32_t> addedLastRound_;      // samples the last round added to the film
+  // With the noise threshold: the filtered image's error estimate and the counts it was made at.
   std::vector<float> errorAtReconstruction_;
   std::vector<uint32_t> countAtReconstruction_;
   uint64_t spentAtReconstruction_ = 0;
-  // The last reconstruction, kept for a snapshot taken before the film changes again.
+  // The last reconstruction: whole after refreshErrors, for the round's snapshot; once a
+  // snapshot has taken its output, only its scale (the inspector's filter window).
   std::optional<recon::DenoiseResult> lastReconstruction_;
   int reconstructedAtRound_ = -1;
   uint32_t setSize_;
 };
 
+template <class T>
+size_t bytesOf(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+size_t ConsistentMethod::memoryBytes() const {
+  size_t bytes = s_.memoryBytes() + film_.memoryBytes() + bytesOf(sliceDrawn_) +
+                 bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) +
+                 bytesOf(addedLastRound_) + bytesOf(errorAtReconstruction_) +
+                 bytesOf(countAtReconstruction_);
+  if (lastReconstruction_) {
+    const recon::DenoiseResult& r = *lastReconstruction_;
+    bytes += bytesOf(r.output.pixels) + bytesOf(r.scale) + bytesOf(r.mseEstimate) +
+             bytesOf(r.varianceRatio);
+  }
+  return bytes;
+}
+
 uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chunk,
                                       std::vector<TracedSample>* coarse, const uint32_t* plan) {
   const PreparedScene& prepared = s_.prepared;
   const int px = int(p % s_.width), py = int(p / s_.width);
-  PixelState& pixel = s_.pixel(p);
   const uint32_t raysBefore = rays_[p];
   const int slices = film_.slicesPerPixel();
   uint32_t left[kMaxSlicesPerSide * kMaxSlicesPerSide] = {};
@@ -183,7 +209,6 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
     const uint64_t chunkRays = chunk.counters.rays;
     const vec3 L = traceRadiance(prepared, cs, chunk.sampler, chunk.counters, &features);
     rays_[p] += uint32_t(chunk.counters.rays - chunkRays);
-    ++pixel.traced;
     if (!isFinite(L)) {
       ++chunk.nonFinite;
       continue;
@@ -195,7 +220,6 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
     else
       s_.store.keep(p, makeStoredSample(cs, px, py, L, s_.tone, s_.config.slicesPerSide), s_.tone);
   }
-  pixel.drawn = drawn_[p];
   return rays_[p] - raysBefore;
 }
 
@@ -296,7 +320,8 @@ void ConsistentMethod::planSlices(size_t p, uint32_t count, uint32_t* plan) cons
 void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
   const size_t pixelCount = s_.pixelCount;
   const auto start = Clock::now();
-  std::vector<std::vector<TracedSample>> traced(pixelCount);
+  // The samples the reservoirs keep once the tone map is known: only the networks read them.
+  std::vector<std::vector<TracedSample>> traced(usesNetworks() ? pixelCount : 0);
   std::atomic<uint64_t> rays{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
@@ -307,7 +332,8 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
                         if (usesNetworks())
                           initNetwork(s_.nets[p], s_.config.network,
                                       hashValues(s_.shape.seed, p, kNetSalt));
-                        local += tracePixel(p, uint32_t(s_.coarseSpp), chunk, &traced[p]);
+                        local += tracePixel(p, uint32_t(s_.coarseSpp), chunk,
+                                            traced.empty() ? nullptr : &traced[p]);
                       }
                       rays += local;
                     });
@@ -315,18 +341,20 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
   totalRays_ += rays;
   totalTraced_ += uint64_t(s_.coarseSpp) * pixelCount;
   s_.tone = toneMapFor(film_.meanImage());
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
-      [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t p = range.begin(); p < range.end(); ++p) {
-          const int px = int(p % s_.width), py = int(p / s_.width);
-          for (const TracedSample& t : traced[p])
-            s_.store.keep(
-                p, makeStoredSample(t.camera, px, py, t.radiance, s_.tone, s_.config.slicesPerSide),
-                s_.tone);
-          std::vector<TracedSample>().swap(traced[p]);
-        }
-      });
+  if (!traced.empty())
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
+        [&](const tbb::blocked_range<size_t>& range) {
+          for (size_t p = range.begin(); p < range.end(); ++p) {
+            const int px = int(p % s_.width), py = int(p / s_.width);
+            for (const TracedSample& t : traced[p])
+              s_.store.keep(p,
+                            makeStoredSample(t.camera, px, py, t.radiance, s_.tone,
+                                             s_.config.slicesPerSide),
+                            s_.tone);
+            std::vector<TracedSample>().swap(traced[p]);
+          }
+        });
   s_.spent = s_.traced = uint64_t(s_.coarseSpp) * pixelCount;
   countKept();
   std::fill(s_.selected.begin(), s_.selected.end(), uint8_t(1));
@@ -358,6 +386,7 @@ void ConsistentMethod::refreshErrors(const std::atomic<bool>* cancel) {
       double(s_.spent) < kReconstructionGrowth * double(spentAtReconstruction_))
     return;
   const auto start = Clock::now();
+  lastReconstruction_.reset();  // not held with the new one
   recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
   if (cancel && cancel->load()) return;
   errorAtReconstruction_ = relativeError(r, film_);
@@ -499,7 +528,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
   std::vector<uint32_t> chosen;
   for (uint32_t p = 0; p < pixelCount; ++p) {
     s_.selected[p] = slots[p] > 0;
-    s_.pixel(p).addedLastRound = 0;
+    addedLastRound_[p] = 0;
     if (slots[p] > 0) chosen.push_back(p);
   }
   ++s_.adaptiveRounds;
@@ -534,7 +563,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
                         const uint32_t before = film_[p].count;
                         localRays += tracePixel(p, slots[p], chunk, nullptr,
                                                 slices > 0 ? &plans[i * slices] : nullptr);
-                        s_.pixel(p).addedLastRound = film_[p].count - before;
+                        addedLastRound_[p] = film_[p].count - before;
                         local += slots[p];
                       }
                       spent += local;
@@ -558,20 +587,30 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
   snap->final = done();
   snap->width = s_.width;
   snap->height = s_.height;
-  snap->raw = film_.meanImage();
-  snap->reconstructed = snap->raw;
+  // The reconstruction first, while no image of the snapshot is held: it is the peak of the
+  // method's memory.
   if (reconstructImage && s_.config.reconstruct && s_.rounds > 0) {
-    if (reconstructedAtRound_ != s_.rounds) {
+    // Its output moves into the snapshot: a second snapshot of the round reconstructs again.
+    if (!lastReconstruction_ || reconstructedAtRound_ != s_.rounds ||
+        lastReconstruction_->output.empty()) {
+      lastReconstruction_.reset();  // not held with the new one
       const auto start = Clock::now();
       recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
       s_.times.reconstruct += secondsSince(start);
       lastReconstruction_ = std::move(r);
       reconstructedAtRound_ = s_.rounds;
     }
-    const recon::DenoiseResult& r = *lastReconstruction_;
-    snap->reconstructed = r.output;
+    recon::DenoiseResult& r = *lastReconstruction_;
     addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
+    // The output moves into the snapshot; of the rest only the scale (for inspect) is read
+    // again.
+    snap->reconstructed = std::move(r.output);
+    r.output = Image{};
+    std::vector<float>().swap(r.mseEstimate);
+    std::vector<float>().swap(r.varianceRatio);
   }
+  snap->raw = film_.meanImage();
+  if (snap->reconstructed.empty()) snap->reconstructed = snap->raw;
   if (s_.rounds > 0) {
     // What ranks the pixels: the raw relMSE estimate scaled by the network's bias.
     std::vector<float> e = allocationError();
@@ -580,22 +619,21 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
                  MapLegend::sequential(0.0f, top));
   }
   addFilmMaps(*snap, film_);
-  std::vector<float> er(s_.pixelCount), prediction(3 * s_.pixelCount);
-  std::vector<uint32_t> kept(s_.pixelCount), traced(s_.pixelCount);
-  for (size_t p = 0; p < s_.pixelCount; ++p) {
-    const PixelState& px = s_.pixel(p);
-    er[p] = px.er;
-    for (int k = 0; k < 3; ++k) prediction[3 * p + size_t(k)] = px.prediction[k];
-    kept[p] = film_[p].count;
-    traced[p] = px.traced;
-  }
   if (usesNetworks()) {
+    std::vector<float> er(s_.pixelCount), prediction(3 * s_.pixelCount);
+    for (size_t p = 0; p < s_.pixelCount; ++p) {
+      const PixelState& px = s_.pixel(p);
+      er[p] = px.er;
+      for (int k = 0; k < 3; ++k) prediction[3 * p + size_t(k)] = px.prediction[k];
+    }
     snap->addMap(maps::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
     const float erTop = std::max(1e-3f, finiteMax(er));
     snap->addMap(maps::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
   }
   addSelectedMap(*snap, s_.selected);
-  addSampleCountMaps(*snap, kept, traced);
+  std::vector<uint32_t> kept(s_.pixelCount);
+  for (size_t p = 0; p < s_.pixelCount; ++p) kept[p] = film_[p].count;
+  addSampleCountMaps(*snap, kept, drawn_);
   for (uint32_t c : kept) snap->keptSamples += c;
   s_.reportCounts(*snap, seconds());
   return snap;
@@ -605,19 +643,20 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
   PixelInspection in = startInspection(x, y, s_.width, s_.height, s_.rounds, "bp");
   if (!in.valid) return in;
   const size_t p = size_t(y) * s_.width + x;
-  const PixelState& px = s_.pixel(p);
   const FilmPixel& f = film_[p];
   in.estimate = vec3(film_.estimate(p));
   in.kept = f.count;
-  in.traced = px.traced;
-  in.addedLastRound = px.addedLastRound;
+  in.traced = drawn_[p];
+  in.addedLastRound = addedLastRound_[p];
   char line[200];
   const vec3 v = f.varianceOfMean();
   std::snprintf(line, sizeof line, "variance of the mean %.3g %.3g %.3g", v.x, v.y, v.z);
   in.addValue("variance of the mean", {v.x, v.y, v.z}, line);
-  const float e = errorAtReconstruction_[p];
+  // (Without the noise threshold no estimate is kept: 0 at 0 samples.)
+  const bool estimated = !errorAtReconstruction_.empty();
+  const float e = estimated ? errorAtReconstruction_[p] : 0.0f;
   std::snprintf(line, sizeof line, "filtered relMSE %.3g (estimated at %u samples)", e,
-                countAtReconstruction_[p]);
+                estimated ? countAtReconstruction_[p] : 0u);
   in.addValue("filtered relMSE", {e}, line, maps::ErrorEstimate);
   if (lastReconstruction_) {
     const int scale = lastReconstruction_->scale[p];
@@ -627,6 +666,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
     in.addValue("filter window", {float(scale), float(radius)}, line, maps::FilterScale);
   }
   if (usesNetworks()) {
+    const PixelState& px = s_.pixel(p);
     std::snprintf(line, sizeof line, "network bias %.3f: error x %.2f; er %.3f", px.bias,
                   networkFactor(p), px.er);
     in.addValue("bias", {px.bias, networkFactor(p)}, line);

@@ -47,7 +47,7 @@ class PaperMethod final : public ProgressiveMethod {
   double budgetShare() const override { return s_.schedule.share(s_.spent); }
 
   size_t memoryBytes() const override {
-    return s_.store.memoryBytes() + s_.nets.capacity() * sizeof(PixelNet) + s_.selected.capacity();
+    return s_.memoryBytes();
   }
 
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,

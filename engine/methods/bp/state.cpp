@@ -3,7 +3,8 @@
 namespace penumbra::bp {
 
 BpState::BpState(const PreparedScene& scene, const RunShape& runShape,
-                 const BpCommonConfig& bpConfig, int coarse, int histogramLevels)
+                 const BpCommonConfig& bpConfig, int coarse, int histogramLevels,
+                 bool perPixelSamples)
     : prepared(scene),
       shape(runShape),
       config(bpConfig),
@@ -17,9 +18,17 @@ BpState::BpState(const PreparedScene& scene, const RunShape& runShape,
   store.histogramLevels = histogramLevels;
   store.reservoirLimit = size_t(config.reservoir);
   store.seed = shape.seed;
-  store.resize(pixelCount);
-  nets.resize(pixelCount);
+  if (perPixelSamples) {
+    store.resize(pixelCount);
+    nets.resize(pixelCount);
+  }
   selected.assign(pixelCount, 0);
+}
+
+size_t BpState::memoryBytes() const {
+  return store.memoryBytes() + nets.capacity() * sizeof(PixelNet) +
+         selected.capacity() * sizeof(uint8_t) + lastOrder.capacity() * sizeof(uint32_t) +
+         inspectedCandidates.capacity() * sizeof(InspectedCandidate);
 }
 
 void BpState::reportCounts(Snapshot& snap, double seconds) const {

@@ -44,8 +44,11 @@ struct TracedSample {
 
 struct BpState {
   // `coarseSpp`: the algorithm's N0; `histogramLevels`: the slices' histogram levels m.
+  // `perPixelSamples`: allocate the per-pixel store (sums, slices, reservoirs) and networks;
+  // without them (the consistent algorithm with its networks off, whose film holds the sums)
+  // `store.pixels` and `nets` stay empty and pixel() must not be called.
   BpState(const PreparedScene& scene, const RunShape& runShape, const BpCommonConfig& bpConfig,
-          int coarseSpp, int histogramLevels);
+          int coarseSpp, int histogramLevels, bool perPixelSamples = true);
 
   const PreparedScene& prepared;
   const RunShape shape;
@@ -74,6 +77,9 @@ struct BpState {
   method::Counters counters;
   PhaseTimes times;
 
+  // Bytes of the per-pixel vectors held here (the store, the networks, the selection and the
+  // ranking).
+  size_t memoryBytes() const;
   const PixelState& pixel(size_t p) const { return store.pixels[p]; }
   PixelState& pixel(size_t p) { return store.pixels[p]; }
   // The counts, times and figures every BP snapshot reports (traced samples, rays, dropped

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -105,9 +106,10 @@ void resize3(Planes3& planes, size_t count) {
 
 // The filtered domain (§1): y = (mean - emission) / demod with demod = albedo + eps, its
 // variance V / demod^2; the halves likewise, with the variance 2V of a half's mean.
-// meanVariance receives V / demod^2 (the identity's SURE).
+// identityMse receives the identity's SURE: V / demod^2 back in linear units, summed over the
+// channels (+inf where the pixel is not valid).
 SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, const Usage& use,
-                          Planes3& meanVariance) {
+                          std::vector<float>& identityMse) {
   const size_t count = in.mean.size();
   SweepInput out;
   out.width = in.width;
@@ -117,7 +119,7 @@ SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, c
   resize3(out.variance, count);
   resize3(out.demod, count);
   resize3(out.emission, count);
-  resize3(meanVariance, count);
+  identityMse.assign(count, std::numeric_limits<float>::infinity());
   out.valid.assign(count, 0.0f);
   forEachPixel(in.width, in.height, [&](size_t p, int, int) {
     bool ok = inputsFinite(in, use, p);
@@ -142,11 +144,12 @@ SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, c
     out.valid[p] = 1.0f;
     for (int c = 0; c < 3; ++c) {
       for (int s = 0; s < out.streams; ++s) out.value[s][c][p] = value[s][c];
-      meanVariance[c][p] = variance[c];
       out.variance[c][p] = use.cross ? 2.0f * variance[c] : variance[c];
       out.demod[c][p] = demod[c];
       out.emission[c][p] = emission[c];
     }
+    identityMse[p] =
+        detail::toLinearSum(variance[0], variance[1], variance[2], demod[0], demod[1], demod[2]);
   });
   return out;
 }
@@ -215,22 +218,6 @@ void addFeatures(const DenoiseInput& in, const DenoiseConfig& config, const Usag
         domain, config, 1, [&](size_t p, int) { return in.depth[p]; },
         [&](size_t p) { return in.depthVariance.empty() ? 0.0f : in.depthVariance[p]; }));
   }
-}
-
-// The identity candidate: the mean itself, whose squared error is V exactly.
-detail::ScaleMaps identityMaps(const DenoiseInput& in, const SweepInput& domain,
-                               const Planes3& meanVariance) {
-  const size_t count = in.mean.size();
-  detail::ScaleMaps maps;
-  maps.output.assign(in.mean.begin(), in.mean.end());
-  maps.mse.assign(count, std::numeric_limits<float>::infinity());
-  maps.varianceRatio.assign(count, 1.0f);
-  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
-    if (!(domain.valid[p] > 0.0f)) return;
-    maps.mse[p] = detail::toLinearSum(meanVariance[0][p], meanVariance[1][p], meanVariance[2][p],
-                                      domain.demod[0][p], domain.demod[1][p], domain.demod[2][p]);
-  });
-  return maps;
 }
 
 }  // namespace
@@ -338,33 +325,40 @@ std::string validate(const DenoiseConfig& config) {
 }
 
 DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
-                      const std::atomic<bool>* cancel) {
-  return denoiseDetailed(in, config, nullptr, cancel);
+                      const std::atomic<bool>* cancel, const std::function<void()>& inputsRead) {
+  return denoiseDetailed(in, config, nullptr, cancel, inputsRead);
 }
 
 DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
-                              DenoiseDetail* detail, const std::atomic<bool>* cancel) {
+                              DenoiseDetail* detail, const std::atomic<bool>* cancel,
+                              const std::function<void()>& inputsRead) {
   if (const std::string problem = validate(config); !problem.empty())
     throw std::invalid_argument("denoise: " + problem);
   checkInput(in);
   const Usage use = usageOf(in, config);
-  Planes3 meanVariance;
-  SweepInput domain = filteredDomain(in, config, use, meanVariance);
+  // The candidates, index 0 the identity: the mean itself, whose squared error is V exactly
+  // (its output and variance ratio, in.mean and 1, are not copied).
+  std::vector<detail::ScaleMaps> candidates(1);
+  SweepInput domain = filteredDomain(in, config, use, candidates[0].mse);
   addFeatures(in, config, use, domain);
-
-  std::vector<detail::ScaleMaps> candidates;
-  candidates.push_back(identityMaps(in, domain, meanVariance));
+  if (inputsRead) inputsRead();  // from here on only in.mean is read
   {
     const detail::SweepConfig sweep{config.radii, config.k, config.noiseCancel, config.patchRadius,
                                     config.denseRadius};
     std::vector<detail::ScaleMaps> filtered = detail::sweepScales(domain, sweep, cancel);
     for (detail::ScaleMaps& maps : filtered) candidates.push_back(std::move(maps));
   }
+  // Of the filtered domain only the pixels' validity is read from here on: the rest goes, and
+  // each candidate's SURE once it is smoothed (unless `detail` wants it), so that a large
+  // image's reconstruction does not hold them all at once.
+  const Plane valid = std::move(domain.valid);
+  domain = SweepInput{};
   std::vector<std::vector<float>> smoothedMse;
-  for (const detail::ScaleMaps& maps : candidates)
-    smoothedMse.push_back(
-        boxMean(maps.mse, in.width, in.height, config.sureSmoothRadius,
-                std::span<const float>(domain.valid.data(), domain.valid.size())));
+  for (detail::ScaleMaps& maps : candidates) {
+    smoothedMse.push_back(boxMean(maps.mse, in.width, in.height, config.sureSmoothRadius,
+                                  std::span<const float>(valid.data(), valid.size())));
+    if (!detail) std::vector<float>().swap(maps.mse);
+  }
 
   const size_t count = in.mean.size();
   DenoiseResult result;
@@ -375,11 +369,11 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
   forEachPixel(in.width, in.height, [&](size_t p, int, int) {
     // The least smoothed SURE wins; ties go to the narrower scale (the identity first).
     size_t best = 0;
-    if (domain.valid[p] > 0.0f) {
+    if (valid[p] > 0.0f) {
       for (size_t s = 1; s < candidates.size(); ++s)
         if (smoothedMse[s][p] < smoothedMse[best][p]) best = s;
     }
-    vec3 output = candidates[best].output[p];
+    vec3 output = best == 0 ? in.mean[p] : candidates[best].output[p];
     // Belt and braces: a finite mean never becomes a non-finite output.
     if (!isFinite(output) && isFinite(in.mean[p])) {
       best = 0;
@@ -390,11 +384,13 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
     const float mse = smoothedMse[best][p] / 3.0f;
     // NaN becomes 0; a pixel that is not valid keeps +inf (its variance counts as infinite).
     result.mseEstimate[p] = mse > 0.0f ? mse : 0.0f;
-    result.varianceRatio[p] = candidates[best].varianceRatio[p];
+    result.varianceRatio[p] = best == 0 ? 1.0f : candidates[best].varianceRatio[p];
   });
 
   if (detail) {
     *detail = DenoiseDetail{};
+    candidates[0].output.assign(in.mean.begin(), in.mean.end());
+    candidates[0].varianceRatio.assign(in.mean.size(), 1.0f);
     for (size_t s = 0; s < candidates.size(); ++s) {
       Image image(in.width, in.height);
       image.pixels = std::move(candidates[s].output);

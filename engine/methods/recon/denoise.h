@@ -31,6 +31,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -132,11 +133,16 @@ std::string validate(const DenoiseConfig& config);
 // `cancel` is polled between rows; a cancelled result may be incomplete.
 // A pixel with any non-finite input counts as having infinite variance: it gets no weight as
 // a neighbour and its output is its mean.
+// `inputsRead`, when set, is called once every span of `in` but `mean` has been read for the
+// last time: the caller may free those buffers then, so that they are not held with the
+// filter's own planes (a large image's peak memory).
 DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
-                      const std::atomic<bool>* cancel = nullptr);
+                      const std::atomic<bool>* cancel = nullptr,
+                      const std::function<void()>& inputsRead = {});
 
 // denoise, filling `detail` (when not null) with every candidate of the bank.
 DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
-                              DenoiseDetail* detail, const std::atomic<bool>* cancel = nullptr);
+                              DenoiseDetail* detail, const std::atomic<bool>* cancel = nullptr,
+                              const std::function<void()>& inputsRead = {});
 
 }  // namespace penumbra::recon

@@ -8,8 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <memory>
 #include <thread>
+#include <vector>
 
 namespace penumbra {
 namespace {
@@ -25,6 +28,50 @@ RenderSession::MethodFactory bpFactory(std::shared_ptr<PreparedScene> scene, int
     return makeBpPaperMethod(*scene, shape, config);
   };
 }
+
+// A method that counts how many of its kind are alive: each round takes `roundMs` (cut short by
+// a cancel), it never ends, and it holds `bytes` of per-pixel state.
+class CountedMethod final : public ProgressiveMethod {
+ public:
+  struct Counts {
+    std::atomic<int> alive{0}, mostAlive{0}, made{0};
+  };
+  CountedMethod(Counts& counts, int roundMs)
+      : ProgressiveMethod(RunShape::progressive(1)), counts_(counts), roundMs_(roundMs) {
+    const int alive = ++counts_.alive;
+    ++counts_.made;
+    int most = counts_.mostAlive.load();
+    while (alive > most && !counts_.mostAlive.compare_exchange_weak(most, alive)) {
+    }
+  }
+  ~CountedMethod() override { --counts_.alive; }
+  void runRound(const std::atomic<bool>* cancel) override {
+    for (int ms = 0; ms < roundMs_ && !(cancel && cancel->load()); ++ms)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!(cancel && cancel->load())) ++rounds_;
+  }
+  int roundsDone() const override { return rounds_; }
+  std::shared_ptr<Snapshot> snapshot(bool, const std::atomic<bool>*) override {
+    auto snap = std::make_shared<Snapshot>();
+    snap->round = rounds_;
+    snap->width = snap->height = 1;
+    snap->raw = snap->reconstructed = Image(1, 1);
+    return snap;
+  }
+  size_t memoryBytes() const override { return state_.size(); }
+  PixelInspection inspect(int x, int y) const override {
+    return startInspection(x, y, 1, 1, rounds_, "counted");
+  }
+
+ protected:
+  bool budgetSpent() const override { return false; }
+
+ private:
+  Counts& counts_;
+  int roundMs_;
+  int rounds_ = 0;
+  std::vector<uint8_t> state_ = std::vector<uint8_t>(1 << 20);
+};
 
 TEST(Session, RunsToTheEndAndPublishesTheFinalSnapshot) {
   RenderSession session(2);
@@ -137,6 +184,36 @@ TEST(Session, InspectsAPixelAfterRoundsAndWhilePaused) {
   EXPECT_TRUE(session.inspection()->valid);
   EXPECT_EQ(session.version(), version);
   EXPECT_EQ(session.state(), RenderSession::State::Paused);
+}
+
+// A camera drag restarts the session many times a second: each replaced method is freed as soon
+// as its round has returned, before the next is made, not once a successor has published.
+TEST(Session, ARestartFreesTheReplacedMethodAtOnce) {
+  CountedMethod::Counts counts;
+  {
+    RenderSession session(1);
+    // Rounds of 200 ms: no method publishes before it is replaced.
+    const auto factory = [&counts] { return std::make_unique<CountedMethod>(counts, 200); };
+    constexpr int kRestarts = 30;
+    for (int i = 0; i < kRestarts; ++i) {
+      session.restart(factory);
+      std::this_thread::sleep_for(std::chrono::milliseconds(3));
+      EXPECT_LE(counts.alive.load(), 1);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!session.latest() && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_NE(session.latest(), nullptr);
+    EXPECT_GE(counts.made.load(), 2);  // the worker made several while the restarts came
+    EXPECT_EQ(counts.mostAlive.load(), 1);
+    EXPECT_EQ(counts.alive.load(), 1);
+    // A cancelled method is freed too, without waiting for another start.
+    session.cancel();
+    while (counts.alive.load() > 0 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    EXPECT_EQ(counts.alive.load(), 0);
+  }
+  EXPECT_EQ(counts.alive.load(), 0);
 }
 
 }  // namespace

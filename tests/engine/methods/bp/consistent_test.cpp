@@ -5,7 +5,10 @@
 
 #include "core/image_io.h"
 #include "eval/metrics.h"
+#include "methods/bp/network.h"
+#include "methods/bp/pixel_store.h"
 #include "methods/factory.h"
+#include "methods/film.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -145,6 +148,26 @@ TEST(ConsistentBp, StoresSamplesOnlyForItsNetworks) {
   EXPECT_EQ(validate(spec), "");
   spec.config.as<BpConsistentConfig>().networkWeight = 1.0f;
   EXPECT_NE(validate(spec).find("--reservoir"), std::string::npos);
+}
+
+// Without networks it allocates only what it reads: the film and a few counters per pixel, no
+// sample store or networks (issue 25: 1184 bytes per pixel before). With them, both are there.
+TEST(ConsistentBp, AllocatesTheNetworksAndTheirStoreOnlyWhenItUsesThem) {
+  auto prepared = test::shippedScene("tire", 24);
+  const double pixels = 24.0 * 24.0;
+  auto plain = makeBpConsistentMethod(*prepared, RunShape::batch(16), consistentConfig());
+  const auto snap = test::runToEnd(*plain);
+  EXPECT_EQ(snap->keptSamples, uint64_t(16 * pixels));
+  const double plainBytes = double(plain->memoryBytes()) / pixels;
+  EXPECT_GE(plainBytes, double(sizeof(FilmPixel)));  // the film is counted
+  EXPECT_LE(plainBytes, 256.0);
+  BpConsistentConfig withNetworks = consistentConfig();
+  withNetworks.networkWeight = 1.0f;
+  auto networked = makeBpConsistentMethod(*prepared, RunShape::batch(16), withNetworks);
+  test::runToEnd(*networked);
+  // A network per pixel (528 bytes) and the reservoirs' 16 samples at least.
+  EXPECT_GT(double(networked->memoryBytes()) / pixels,
+            plainBytes + double(sizeof(PixelNet)) + 16.0 * sizeof(bp::StoredSample));
 }
 
 }  // namespace
