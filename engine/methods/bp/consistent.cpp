@@ -59,7 +59,8 @@ class ConsistentMethod final : public ProgressiveMethod {
         drawn_(s_.pixelCount, 0),
         rays_(s_.pixelCount, 0),
         addedLastRound_(s_.pixelCount, 0),
-        setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)) {
+        setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)),
+        coarseSteps_(coarseSteps(shape, s_.coarseSpp)) {
     if (usesNetworks()) trainedAt_.assign(s_.pixelCount, 0);
     // Only the noise threshold refreshes the filtered image's error estimate.
     if (shape.noiseThreshold > 0) {
@@ -74,7 +75,7 @@ class ConsistentMethod final : public ProgressiveMethod {
 
   void runRound(const std::atomic<bool>* cancel) override {
     if (done()) return;
-    if (s_.rounds == 0)
+    if (!coarseComplete())
       coarsePass(cancel);
     else
       adaptiveRound(cancel);
@@ -98,11 +99,20 @@ class ConsistentMethod final : public ProgressiveMethod {
 
  protected:
   bool budgetSpent() const override {
-    return s_.rounds > 0 && (s_.schedule.finished(s_.spent) || s_.stalled);
+    return coarseComplete() && (s_.schedule.finished(s_.spent) || s_.stalled);
   }
 
  private:
   bool usesNetworks() const { return config_.usesNetworks(); }
+  // The coarse pass's steps, in samples per pixel: a batch run traces it in one round; an
+  // open-ended one (the viewer) in two, 2 samples per pixel and then the rest, each a round
+  // that publishes, so that a full picture shows after the first. The film receives the same
+  // samples in the same order either way.
+  static std::vector<int> coarseSteps(const RunShape& shape, int coarseSpp) {
+    if (shape.openEnded && coarseSpp > 2) return {2, coarseSpp - 2};
+    return {coarseSpp};
+  }
+  bool coarseComplete() const { return coarseStepsDone_ == coarseSteps_.size(); }
   void coarsePass(const std::atomic<bool>* cancel);
   void adaptiveRound(const std::atomic<bool>* cancel);
   // Traces `count` more samples of pixel p into the film (and, once the tone map is known,
@@ -158,6 +168,11 @@ class ConsistentMethod final : public ProgressiveMethod {
   std::optional<recon::DenoiseResult> lastReconstruction_;
   int reconstructedAtRound_ = -1;
   uint32_t setSize_;
+  std::vector<int> coarseSteps_;
+  size_t coarseStepsDone_ = 0;
+  int coarseSppDone_ = 0;
+  // The coarse samples the reservoirs keep once the tone map is known (only with networks).
+  std::vector<std::vector<TracedSample>> coarseTraced_;
 };
 
 template <class T>
@@ -320,8 +335,8 @@ void ConsistentMethod::planSlices(size_t p, uint32_t count, uint32_t* plan) cons
 void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
   const size_t pixelCount = s_.pixelCount;
   const auto start = Clock::now();
-  // The samples the reservoirs keep once the tone map is known: only the networks read them.
-  std::vector<std::vector<TracedSample>> traced(usesNetworks() ? pixelCount : 0);
+  const int step = coarseSteps_[coarseStepsDone_];
+  if (usesNetworks() && coarseTraced_.empty()) coarseTraced_.resize(pixelCount);
   std::atomic<uint64_t> rays{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
                     [&](const tbb::blocked_range<size_t>& range) {
@@ -329,36 +344,39 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
                       TraceChunk chunk(s_.counters, s_.shape.sampler, s_.shape.seed, setSize_);
                       uint64_t local = 0;
                       for (size_t p = range.begin(); p < range.end(); ++p) {
-                        if (usesNetworks())
+                        if (usesNetworks() && coarseSppDone_ == 0)
                           initNetwork(s_.nets[p], s_.config.network,
                                       hashValues(s_.shape.seed, p, kNetSalt));
-                        local += tracePixel(p, uint32_t(s_.coarseSpp), chunk,
-                                            traced.empty() ? nullptr : &traced[p]);
+                        local += tracePixel(p, uint32_t(step), chunk,
+                                            coarseTraced_.empty() ? nullptr : &coarseTraced_[p]);
                       }
                       rays += local;
                     });
   if (cancel && cancel->load()) return;
+  coarseSppDone_ += step;
+  ++coarseStepsDone_;
   totalRays_ += rays;
-  totalTraced_ += uint64_t(s_.coarseSpp) * pixelCount;
+  totalTraced_ += uint64_t(step) * pixelCount;
+  s_.spent = s_.traced = uint64_t(coarseSppDone_) * pixelCount;
+  countKept();
+  std::fill(s_.selected.begin(), s_.selected.end(), uint8_t(1));
+  s_.times.trace += secondsSince(start);
+  if (!coarseComplete()) return;
   s_.tone = toneMapFor(film_.meanImage());
-  if (!traced.empty())
+  if (!coarseTraced_.empty())
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
         [&](const tbb::blocked_range<size_t>& range) {
           for (size_t p = range.begin(); p < range.end(); ++p) {
             const int px = int(p % s_.width), py = int(p / s_.width);
-            for (const TracedSample& t : traced[p])
+            for (const TracedSample& t : coarseTraced_[p])
               s_.store.keep(p,
                             makeStoredSample(t.camera, px, py, t.radiance, s_.tone,
                                              s_.config.slicesPerSide),
                             s_.tone);
-            std::vector<TracedSample>().swap(traced[p]);
           }
         });
-  s_.spent = s_.traced = uint64_t(s_.coarseSpp) * pixelCount;
-  countKept();
-  std::fill(s_.selected.begin(), s_.selected.end(), uint8_t(1));
-  s_.times.trace += secondsSince(start);
+  std::vector<std::vector<TracedSample>>().swap(coarseTraced_);
   trainDue(cancel);
 }
 
@@ -675,7 +693,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
     in.addValue("I'", {net.x, net.y, net.z}, line, maps::Prediction);
   }
   char reason[200];
-  if (s_.rounds == 1)
+  if (s_.rounds <= int(coarseSteps_.size()))
     std::snprintf(reason, sizeof reason, "coarse pass: %u samples", f.count);
   else if (in.addedLastRound > 0)
     std::snprintf(reason, sizeof reason,

@@ -117,6 +117,28 @@ TEST(ConsistentBp, AFixedSppRunDoesNotDependOnTheThreadCount) {
   EXPECT_EQ(snaps[0]->reconstructed.pixels, snaps[1]->reconstructed.pixels);
 }
 
+// Open-ended (the viewer), the coarse pass is two rounds that each publish: a full picture at 2
+// samples per pixel, then the rest. The film gets the same samples in the same order as a
+// batch run's one-round coarse pass: the raw estimates after it are the same bits.
+TEST(ConsistentBp, AnOpenEndedCoarsePassPublishesAfterTwoSamplesPerPixel) {
+  auto prepared = test::shippedScene("tire", 24);
+  BpConsistentConfig config = consistentConfig();
+  config.coarseSpp = 4;
+  auto open = makeBpConsistentMethod(*prepared, RunShape::progressive(1, 5), config);
+  open->runRound(nullptr);
+  const auto first = open->snapshot();
+  EXPECT_EQ(first->round, 1);
+  EXPECT_EQ(first->keptSamples + first->nonFiniteSamples, 2u * 24 * 24);
+  EXPECT_FALSE(first->reconstructed.empty());
+  for (const vec3& c : first->reconstructed.pixels) ASSERT_TRUE(isFinite(c));
+  open->runRound(nullptr);
+  auto batch = makeBpConsistentMethod(*prepared, RunShape::batch(64, 5), config);
+  batch->runRound(nullptr);
+  const auto a = open->snapshot(), b = batch->snapshot();
+  EXPECT_EQ(a->keptSamples, b->keptSamples);
+  EXPECT_EQ(a->raw.pixels, b->raw.pixels);
+}
+
 TEST(ConsistentBp, TheNoiseThresholdStopsTheRunOnceTheEstimateIsBelowIt) {
   auto prepared = test::shippedScene("cornell", 32);
   RunShape shape = RunShape::progressive(1, 3, 4096);
