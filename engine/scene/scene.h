@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "scene/camera.h"
+#include "scene/texture_image.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -50,7 +51,8 @@ struct Texture {
   vec3 color0 = vec3(0.8f);  // constant colour, or first checker/stripe colour
   vec3 color1 = vec3(0.2f);  // second checker/stripe colour
   vec2 scale = vec2(1.0f);   // uv repetitions (checker cells / stripes per unit uv)
-  int imageIndex = -1;       // Kind::Image: index into Scene::images (linear RGB)
+  int imageIndex = -1;       // Kind::Image: index into Scene::images
+  vec3 factor = vec3(1.0f);  // Kind::Image: multiplies the texels at lookup (glTF's factors)
 };
 
 struct Material {
@@ -105,7 +107,7 @@ struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  std::vector<Image> images;
+  std::vector<TextureImage> images;  // the image textures' texels (textures.h: textureBytes)
   std::vector<PunctualLight> lights;
   vec3 background = vec3(0.0f);
   Camera camera;
