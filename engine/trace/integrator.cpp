@@ -168,13 +168,18 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
   s.uv = mesh.uvs.empty() ? vec2(0.0f)
                           : b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
   s.materialId = mesh.materialIds[hit.primId];
+  // The triangle's tangents orient a normal map and turn differentials into a uv footprint:
+  // only a textured material needs them.
+  const Material& material = scene.materials[s.materialId];
+  const bool textured = material.albedoTexture >= 0 || material.metallicRoughnessTexture >= 0 ||
+                        material.emissionTexture >= 0 || material.normalTexture >= 0;
   vec3 dpdu, dpdv, dpdx, dpdy;
-  if (mesh.uvs.empty() || !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
-                                            mesh.uvs[idx[2]] - mesh.uvs[idx[0]], dpdu, dpdv))
+  if (!textured || mesh.uvs.empty() ||
+      !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
+                        mesh.uvs[idx[2]] - mesh.uvs[idx[0]], dpdu, dpdv))
     return s;
   if (differentials && differentialOffsets(*differentials, s.point, s.geometricNormal, dpdx, dpdy))
     s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
-  const Material& material = scene.materials[s.materialId];
   if (material.normalTexture >= 0) applyNormalMap(scene, material, dpdu, dpdv, s);
   return s;
 }
@@ -185,9 +190,11 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   const Accel& accel = *prepared.accel;
   const int maxDepth = scene.settings.maxDepth;
   Ray ray = generateRay(prepared.camera, sample);
-  // A footprint of one pixel chooses the mip levels of the first hit's textures; the hits of
-  // later rays read level 0.
-  const RayDifferentials differentials = cameraRayDifferentials(prepared.camera, sample);
+  // A footprint of one pixel chooses the mip levels of the first hit's image textures; the
+  // hits of later rays read level 0.
+  const bool footprints = !scene.images.empty();
+  const RayDifferentials differentials =
+      footprints ? cameraRayDifferentials(prepared.camera, sample) : RayDifferentials{};
   vec3 radiance(0.0f), throughput(1.0f);
   bool specularBounce = false;
   float previousBsdfPdf = 0;
@@ -206,7 +213,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       break;
     }
     const SurfaceHit surface =
-        surfaceAt(scene, hit, ray.time, depth == 0 ? &differentials : nullptr);
+        surfaceAt(scene, hit, ray.time, depth == 0 && footprints ? &differentials : nullptr);
     const Material& material = scene.materials[surface.materialId];
     const vec3 wo = -ray.direction;
 
