@@ -12,6 +12,7 @@
 #include "methods/ld/ld.h"
 #include "methods/render.h"
 #include "present/snapshot_io.h"
+#include "scene/textures.h"
 #include "trace/coverage.h"
 #include "trace/integrator.h"
 
@@ -63,6 +64,7 @@ nlohmann::json commonStats(const RenderFlags& flags, const Scene& scene, const R
   j["height"] = scene.settings.height;
   j["threads"] = threads;
   j["max_depth"] = scene.settings.maxDepth;
+  j["texture_bytes"] = textureBytes(scene);
   j["time_seconds"] = seconds;
   j["rays"] = rays;
   j["mrays_per_second"] = seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0;

@@ -4,6 +4,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -36,6 +37,13 @@ inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f 
 
 float linearToSrgb(float v);
 float srgbToLinear(float v);
+
+// srgbToLinear(i / 255) for every 8-bit code i (filled before main).
+extern const std::array<float, 256> kSrgb8ToLinear;
+// The linear value of an 8-bit sRGB code, through kSrgb8ToLinear.
+inline float srgb8ToLinear(uint8_t v) { return kSrgb8ToLinear[v]; }
+// The 8-bit sRGB code nearest a linear value (clamped to [0, 1]).
+uint8_t linearToSrgb8(float v);
 
 // Display transform used for PNG output: exposure (stops), clamp, sRGB encode, 8 bits.
 std::vector<uint8_t> toSrgb8(const Image& image, float exposureStops = 0.0f);

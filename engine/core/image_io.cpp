@@ -400,15 +400,6 @@ std::string stbReason() {
   return std::string("cannot decode image: ") + (reason ? reason : "unknown error");
 }
 
-float srgb8ToLinear(unsigned char v) {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = srgbToLinear(float(i) / 255.0f);
-    return t;
-  }();
-  return table[v];
-}
-
 // stb_image allocates the whole decoded image from the header's size before it inflates a
 // byte. No PNG, JPEG, TGA, BMP or HDR codec packs more than about a thousand samples into a byte
 // of file (Deflate's limit is 1032 bytes per byte), so a header asking for more than this many
@@ -441,19 +432,28 @@ void checkPngChunks(const std::string& path, const std::vector<unsigned char>& b
   }
 }
 
-Image readStb(const std::string& path, bool radianceHdr) {
-  // Read once; the checks and stb all work on the bytes in memory.
-  const std::vector<unsigned char> bytes = readWholeFile(path);
+// The file's bytes once its PNG chunks and its header's size are checked; stb's view of its
+// size and channels in width, height and channels.
+std::vector<unsigned char> readStbFile(const std::string& path, int& width, int& height,
+                                       int& channels) {
+  std::vector<unsigned char> bytes = readWholeFile(path);
   checkPngChunks(path, bytes);
   if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail(path, "file too large");
-  const stbi_uc* data = bytes.data();
-  const int size = int(bytes.size());
-  int width = 0, height = 0, channelsInFile = 0;
-  if (!stbi_info_from_memory(data, size, &width, &height, &channelsInFile)) fail(path, stbReason());
+  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels))
+    fail(path, stbReason());
   const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 3;
   if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(bytes.size())))
     fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
                    " pixels are too many for a file of " + std::to_string(bytes.size()) + " bytes");
+  return bytes;
+}
+
+Image readStb(const std::string& path, bool radianceHdr) {
+  // Read once; the checks and stb all work on the bytes in memory.
+  int width = 0, height = 0, channelsInFile = 0;
+  const std::vector<unsigned char> bytes = readStbFile(path, width, height, channelsInFile);
+  const stbi_uc* data = bytes.data();
+  const int size = int(bytes.size());
   Image image;
   const auto fill = [&](const auto* decoded, auto toLinear) {
     if (!decoded) fail(path, stbReason());
@@ -479,6 +479,10 @@ Image readStb(const std::string& path, bool radianceHdr) {
     fill(decoded.get(), srgb8ToLinear);
   }
   return image;
+}
+
+bool isStbLdrExtension(const std::string& ext) {
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp";
 }
 
 void appendToVector(void* context, void* data, int size) {
@@ -535,9 +539,26 @@ Image readImage(const std::string& path) {
   if (ext == ".exr") return readExr(path);
   if (ext == ".pfm") return readPfm(path);
   if (ext == ".hdr") return readStb(path, true);
-  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp")
-    return readStb(path, false);
+  if (isStbLdrExtension(ext)) return readStb(path, false);
   fail(path, unsupportedFormat(ext, kReadableFormats));
+}
+
+std::optional<Image8> readImage8(const std::string& path) {
+  if (!isStbLdrExtension(lowercaseExtension(path))) return std::nullopt;
+  Image8 image;
+  int channelsInFile = 0;
+  const std::vector<unsigned char> bytes =
+      readStbFile(path, image.width, image.height, channelsInFile);
+  if (stbi_is_16_bit_from_memory(bytes.data(), int(bytes.size()))) return std::nullopt;
+  image.channels = channelsInFile <= 2 ? 1 : 3;
+  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> decoded(
+      stbi_load_from_memory(bytes.data(), int(bytes.size()), &image.width, &image.height,
+                            &channelsInFile, image.channels),
+      &stbi_image_free);
+  if (!decoded) fail(path, stbReason());
+  image.data.assign(decoded.get(), decoded.get() + size_t(image.width) * size_t(image.height) *
+                                                       size_t(image.channels));
+  return image;
 }
 
 std::string lowercaseExtension(const std::string& path) {

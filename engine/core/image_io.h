@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -26,6 +27,17 @@ struct ImageIoError : std::runtime_error {
 //   .png .jpg .jpeg .tga .bmp  8/16-bit, decoded from sRGB to linear
 // Throws ImageIoError on a missing, unreadable, malformed or unsupported file.
 Image readImage(const std::string& path);
+
+// An 8-bit image as its file stores it (sRGB-encoded for colour): width x height pixels of
+// `channels` bytes each, top row first.
+struct Image8 {
+  int width = 0, height = 0, channels = 0;
+  std::vector<uint8_t> data;
+};
+// Reads an 8-bit PNG, JPEG, TGA or BMP file without converting its values: one channel for a
+// grey file, three otherwise (alpha dropped). Returns nothing for the other formats and for
+// 16-bit PNG files, which readImage reads as float. Throws ImageIoError as readImage does.
+std::optional<Image8> readImage8(const std::string& path);
 
 // Writes an image by extension (case-insensitive), atomically (see writeFileAtomically):
 //   .exr  float32 RGB, ZIP compressed       .pfm  little-endian float RGB

@@ -86,4 +86,12 @@ Ray generateRay(const CameraFrame& f, const CameraSample& s) {
   return ray;
 }
 
+RayDifferentials cameraRayDifferentials(const CameraFrame& frame, const CameraSample& sample) {
+  CameraSample x = sample, y = sample;
+  x.imageX += 1.0f;
+  y.imageY += 1.0f;
+  const Ray rx = generateRay(frame, x), ry = generateRay(frame, y);
+  return {rx.origin, rx.direction, ry.origin, ry.direction};
+}
+
 }  // namespace penumbra

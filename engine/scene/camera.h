@@ -54,6 +54,16 @@ struct CameraFrame {
 CameraFrame makeCameraFrame(const Camera& camera, int width, int height);
 Ray generateRay(const CameraFrame& frame, const CameraSample& sample);
 
+// The rays through the film points one pixel right of the sample (x) and one pixel below it
+// (y), through the same lens point at the same time: pbrt's ray differentials, which give a
+// texture lookup at a camera ray's hit the footprint of one pixel whatever the sample's place
+// in the pixel.
+struct RayDifferentials {
+  vec3 xOrigin, xDirection;
+  vec3 yOrigin, yDirection;
+};
+RayDifferentials cameraRayDifferentials(const CameraFrame& frame, const CameraSample& sample);
+
 // Concentric mapping of [0,1)^2 onto the unit disk (Shirley-Chiu).
 glm::vec2 sampleUnitDisk(float u, float v);
 

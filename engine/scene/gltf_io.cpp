@@ -138,49 +138,47 @@ mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t 
 
 // ---- images ---------------------------------------------------------------------------------
 
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-// How a texture's texels become ours: colour (sRGB to linear, times a factor), data (raw
-// values, for normal maps) or coverage (the alpha channel, 1 without one, in all three).
+// How a texture's texels become ours: colour (sRGB, RGB or grey), data (raw values, for
+// normal maps and metallic-roughness) or coverage (the alpha channel alone). 8-bit images stay
+// 8-bit, 16-bit ones become float; the factors are applied at lookup (Texture::factor).
 enum class Texels { Color, Data, Alpha };
 
-// A decoded glTF image turned into one of ours.
-Image imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
-                    Texels texels, vec3 factor) {
+// A decoded glTF image turned into one of ours; empty for coverage of an image without alpha
+// (the material's factor alone is its coverage).
+TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
+                           Texels texels) {
   const std::string where = indexed("images", index);
   const int w = source.width, h = source.height, n = source.component;
-  const int bytesPer = source.bits == 16 ? 2 : 1;
+  const size_t bytesPer = source.bits == 16 ? 2 : 1;
   if (w <= 0 || h <= 0 || n < 1 || n > 4 || (source.bits != 8 && source.bits != 16) ||
-      source.image.size() != size_t(w) * size_t(h) * size_t(n) * size_t(bytesPer))
+      source.image.size() != size_t(w) * size_t(h) * size_t(n) * bytesPer)
     fail(path, where,
          (source.uri.empty() || source.uri.rfind("data:", 0) == 0 ? std::string("its data")
                                                                   : "'" + source.uri + "'") +
              " could not be read or decoded as an image");
-  Image image(w, h);
-  for (size_t p = 0; p < image.pixels.size(); ++p) {
-    float c[4] = {0, 0, 0, 1};
-    for (int k = 0; k < n; ++k) {
-      const size_t at = (p * size_t(n) + size_t(k)) * size_t(bytesPer);
-      c[k] = bytesPer == 2 ? float(source.image[at] | source.image[at + 1] << 8) / 65535.0f
-                           : float(source.image[at]) / 255.0f;
-    }
-    const vec3 rgb = n < 3 ? vec3(c[0]) : vec3(c[0], c[1], c[2]);
-    switch (texels) {
-      case Texels::Color:
-        image.pixels[p] =
-            factor * vec3(srgbToLinear(rgb.x), srgbToLinear(rgb.y), srgbToLinear(rgb.z));
-        break;
-      case Texels::Data:
-        image.pixels[p] = rgb;
-        break;
-      case Texels::Alpha:
-        image.pixels[p] = vec3(n == 2 ? c[1] : n == 4 ? c[3] : 1.0f);
-        break;
+  // The channels kept: alpha alone for coverage (none without one), grey or RGB otherwise.
+  if (texels == Texels::Alpha && n != 2 && n != 4) return {};
+  const int first = texels == Texels::Alpha ? n - 1 : 0;
+  const size_t channels = texels == Texels::Alpha || n < 3 ? 1 : 3;
+  const size_t count = size_t(w) * size_t(h) * channels;
+  std::vector<uint8_t> bytes(bytesPer == 1 ? count : 0);
+  std::vector<float> values(bytesPer == 2 ? count : 0);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t at = ((i / channels) * size_t(n) + size_t(first) + i % channels) * bytesPer;
+    if (bytesPer == 1) {
+      bytes[i] = source.image[at];
+    } else {
+      const float v = float(source.image[at] | source.image[at + 1] << 8) / 65535.0f;
+      values[i] = texels == Texels::Color ? srgbToLinear(v) : v;
     }
   }
-  return image;
+  // Shading lookups read the mip levels; coverage is tested at level 0 alone (by the
+  // acceleration structure's filter), so it has none.
+  const bool mips = texels != Texels::Alpha;
+  if (bytesPer == 2) return makeTextureImageFloat(w, h, int(channels), std::move(values), mips);
+  return makeTextureImage8(w, h, int(channels), std::move(bytes),
+                           texels == Texels::Color ? TexelEncoding::Srgb8 : TexelEncoding::Linear8,
+                           mips);
 }
 
 // ---- the conversion -------------------------------------------------------------------------
@@ -288,8 +286,9 @@ class Converter {
     return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
   }
 
-  // A texture of the file as one of ours, converted as `texels` say (factor baked in for
-  // colour); textures used twice the same way are converted once.
+  // A texture of the file as one of ours, converted as `texels` say, its factor applied at
+  // lookup; an image used twice the same way is converted once, and a texture used twice with
+  // the same factor is one texture. -1 for coverage from an image without alpha.
   int texture(int index, int texCoord, const std::string& where, Texels texels, vec3 factor) {
     if (index < 0) return -1;
     if (size_t(index) >= model_.textures.size())
@@ -303,13 +302,24 @@ class Converter {
     const auto key = std::make_tuple(source, int(texels), factor.x, factor.y, factor.z);
     const auto known = textureIds_.find(key);
     if (known != textureIds_.end()) return known->second;
-    out_.images.push_back(
-        imageFromGltf(path_, model_.images[size_t(source)], size_t(source), texels, factor));
-    Texture t;
-    t.kind = Texture::Kind::Image;
-    t.imageIndex = int(out_.images.size() - 1);
-    out_.textures.push_back(t);
-    const int id = int(out_.textures.size() - 1);
+    const auto imageKey = std::make_pair(source, int(texels));
+    auto image = imageIds_.find(imageKey);
+    if (image == imageIds_.end()) {
+      TextureImage converted =
+          imageFromGltf(path_, model_.images[size_t(source)], size_t(source), texels);
+      const int id = converted.empty() ? -1 : int(out_.images.size());
+      if (!converted.empty()) out_.images.push_back(std::move(converted));
+      image = imageIds_.emplace(imageKey, id).first;
+    }
+    int id = -1;
+    if (image->second >= 0) {
+      Texture t;
+      t.kind = Texture::Kind::Image;
+      t.imageIndex = image->second;
+      t.factor = factor;
+      out_.textures.push_back(t);
+      id = int(out_.textures.size() - 1);
+    }
     textureIds_[key] = id;
     return id;
   }
@@ -723,6 +733,7 @@ class Converter {
   bool animating_ = false;                  // motion blur over the shutter
   std::set<std::string> warned_;
   std::map<std::tuple<int, int, float, float, float>, int> textureIds_;
+  std::map<std::pair<int, int>, int> imageIds_;  // (source, texels) -> out_.images; -1: none
   int defaultMaterial_ = -1;
   size_t visits_ = 0, totalVertices_ = 0, totalTriangles_ = 0;
   // Bounds on what instancing can multiply a small file into (about 2 GB of vertices).

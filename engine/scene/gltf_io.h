@@ -41,9 +41,9 @@ struct GltfData {
   std::vector<Mesh> animatedMeshes;
   std::vector<PunctualLight> lights;  // KHR_lights_punctual, where they are at the frame time
   double frameTime = 0, shutterSeconds = 0;
-  std::vector<Material> materials;  // albedoTexture indexes `textures`
-  std::vector<Texture> textures;    // Kind::Image, imageIndex into `images`
-  std::vector<Image> images;        // linear RGB (base colour factor applied)
+  std::vector<Material> materials;   // albedoTexture indexes `textures`
+  std::vector<Texture> textures;     // Kind::Image, imageIndex into `images`, factor applied
+  std::vector<TextureImage> images;  // at lookup; 8-bit images stay 8-bit (texture_image.h)
   bool hasCamera = false;
   Camera camera;
   std::vector<std::string> warnings;  // features present but not rendered, one line each

@@ -19,13 +19,7 @@ constexpr float kPi = 3.14159265358979f;
 // The mean luminance of a texture over its uv square (1 without a texture): a triangle's
 // choice weight uses it, the radiance itself is the texture's at the sampled point.
 float meanTextureLuminance(const Scene& scene, int texture) {
-  if (texture < 0) return 1.0f;
-  const Texture& t = scene.textures[size_t(texture)];
-  if (t.kind != Texture::Kind::Image) return luminance(0.5f * (t.color0 + t.color1));
-  const Image& image = scene.images[size_t(t.imageIndex)];
-  double sum = 0;
-  for (const vec3& c : image.pixels) sum += double(luminance(c));
-  return image.pixels.empty() ? 0.0f : float(sum / double(image.pixels.size()));
+  return texture < 0 ? 1.0f : textureMeanLuminance(scene, scene.textures[size_t(texture)]);
 }
 
 // A punctual light's power over pi, in the units of a triangle's area x luminance.
@@ -72,10 +66,11 @@ bool samplePunctual(const PunctualLight& light, vec3 reference, LightSample& out
 }
 }  // namespace
 
-vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv) {
+vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv,
+                     const UvFootprint& footprint) {
   if (material.emissionTexture < 0) return material.emission;
   return material.emission *
-         evalTexture(scene, scene.textures[size_t(material.emissionTexture)], uv);
+         evalTexture(scene, scene.textures[size_t(material.emissionTexture)], uv, footprint);
 }
 
 void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, vec3& p1,

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/textures.h"
 
 #include <cstdint>
 #include <memory>
@@ -64,8 +65,10 @@ struct LightSample {
   bool delta = false;  // a punctual light: no BSDF sample can reach it, so no MIS
 };
 
-// Radiance a material emits at texture coordinate uv (its emission times its texture).
-vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv);
+// Radiance a material emits at texture coordinate uv (its emission times its texture, over
+// the footprint when one is known).
+vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv,
+                     const UvFootprint& footprint = {});
 
 bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference, float time,
                  float uChoose, glm::vec2 uTriangle, LightSample& out);

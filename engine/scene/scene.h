@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "scene/camera.h"
 #include "scene/environment.h"
+#include "scene/texture_image.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -52,7 +53,8 @@ struct Texture {
   vec3 color0 = vec3(0.8f);  // constant colour, or first checker/stripe colour
   vec3 color1 = vec3(0.2f);  // second checker/stripe colour
   vec2 scale = vec2(1.0f);   // uv repetitions (checker cells / stripes per unit uv)
-  int imageIndex = -1;       // Kind::Image: index into Scene::images (linear RGB)
+  int imageIndex = -1;       // Kind::Image: index into Scene::images
+  vec3 factor = vec3(1.0f);  // Kind::Image: multiplies the texels at lookup (glTF's factors)
 };
 
 struct Material {
@@ -107,7 +109,7 @@ struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  std::vector<Image> images;
+  std::vector<TextureImage> images;  // the image textures' texels (textures.h: textureBytes)
   std::vector<PunctualLight> lights;
   // Light from far away (environment.h). Without one, a `background` lights the scene as a
   // constant environment; with one, the environment lights it and the background is the

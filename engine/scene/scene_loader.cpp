@@ -195,7 +195,7 @@ int readTexture(const Reader& r, const Json& node, const std::string& f, Scene& 
     t.kind = Texture::Kind::Image;
     const std::string path = r.filePath(node, f);
     try {
-      scene.images.push_back(readImage(path));
+      scene.images.push_back(readTextureImage(path));
     } catch (const std::exception& e) {
       r.fail(f + ".file", e.what());
     }
@@ -331,7 +331,7 @@ Motion readMotion(const Reader& r, const Json& node, const std::string& f) {
 // Moves a glTF file's images and textures into the scene; returns the texture id offset.
 int appendGltfTextures(Scene& scene, GltfData& gltf) {
   const int imageOffset = int(scene.images.size()), textureOffset = int(scene.textures.size());
-  for (Image& image : gltf.images) scene.images.push_back(std::move(image));
+  for (TextureImage& image : gltf.images) scene.images.push_back(std::move(image));
   for (Texture t : gltf.textures) {
     if (t.imageIndex >= 0) t.imageIndex += imageOffset;
     scene.textures.push_back(t);
@@ -421,7 +421,7 @@ uint32_t appendObjMaterials(Scene& scene, const std::vector<Material>& materials
     if (i < diffuseMaps.size() && !diffuseMaps[i].empty()) {
       scene.sourceFiles.push_back(diffuseMaps[i]);
       try {
-        scene.images.push_back(readImage(diffuseMaps[i]));
+        scene.images.push_back(readTextureImage(diffuseMaps[i]));
       } catch (const std::exception& e) {
         throw SceneError(where + ": map_Kd of material '" + m.name + "': " + e.what());
       }

@@ -28,7 +28,7 @@ struct CutoutMesh {
   std::vector<vec2> uvs;
   std::vector<uint32_t> materialIds;
   std::vector<Coverage> coverage;  // per material id of the scene
-  const std::vector<Image>* images = nullptr;
+  const std::vector<TextureImage>* images = nullptr;
 
   // A hole: the material's coverage at the hit's uv is below its cutoff.
   bool isHole(uint32_t prim, float u, float v) const {
@@ -60,7 +60,7 @@ struct Accel::Impl {
   RTCScene scene = nullptr;
   std::string firstError;  // Embree reports through a C callback: remember, throw later
   std::vector<std::unique_ptr<CutoutMesh>> cutouts;
-  std::vector<Image> cutoutImages;
+  std::vector<TextureImage> cutoutImages;  // copies share the texels
 };
 
 namespace {

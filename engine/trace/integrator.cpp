@@ -28,11 +28,13 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   const Material& m = scene.materials[s.materialId];
   SurfaceBsdf b;
   b.type = m.type;
-  b.color = m.albedoTexture >= 0 ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv)
-                                 : m.albedo;
+  b.color = m.albedoTexture >= 0
+                ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv, s.footprint)
+                : m.albedo;
   float metallic = m.metallic, roughness = m.roughness;
   if (m.metallicRoughnessTexture >= 0) {
-    const vec3 t = evalTexture(scene, scene.textures[size_t(m.metallicRoughnessTexture)], s.uv);
+    const vec3 t =
+        evalTexture(scene, scene.textures[size_t(m.metallicRoughnessTexture)], s.uv, s.footprint);
     roughness *= t.y;
     metallic *= std::clamp(t.z, 0.0f, 1.0f);
   }
@@ -117,15 +119,21 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
 }
 
 namespace {
-// Tilts the shading normal by a tangent-space normal map. The tangent frame is the triangle's
-// (dp/du, dp/dv from its edges and uvs, at the ray's time) made orthonormal around the shading
-// normal; the map's +y runs along +v (up the image: OpenGL's and glTF's convention).
-void applyNormalMap(const Scene& scene, const Material& material, vec3 e1, vec3 e2, vec2 duv1,
-                    vec2 duv2, SurfaceHit& s) {
+// dp/du and dp/dv of a triangle from its edges and their uv changes (at the ray's time); false
+// without a uv parameterisation.
+bool triangleTangents(vec3 e1, vec3 e2, vec2 duv1, vec2 duv2, vec3& dpdu, vec3& dpdv) {
   const float det = duv1.x * duv2.y - duv1.y * duv2.x;
-  if (!(std::abs(det) > 1e-12f)) return;  // no uv parameterisation to orient the map
-  const vec3 dpdu = (duv2.y * e1 - duv1.y * e2) / det;
-  const vec3 dpdv = (duv1.x * e2 - duv2.x * e1) / det;
+  if (!(std::abs(det) > 1e-12f)) return false;
+  dpdu = (duv2.y * e1 - duv1.y * e2) / det;
+  dpdv = (duv1.x * e2 - duv2.x * e1) / det;
+  return true;
+}
+
+// Tilts the shading normal by a tangent-space normal map. The tangent frame is the triangle's
+// (dp/du, dp/dv) made orthonormal around the shading normal; the map's +y runs along +v (up
+// the image: OpenGL's and glTF's convention).
+void applyNormalMap(const Scene& scene, const Material& material, vec3 dpdu, vec3 dpdv,
+                    SurfaceHit& s) {
   const vec3 n = s.shadingNormal;
   vec3 t = dpdu - n * glm::dot(n, dpdu);
   const float tLength = glm::length(t);
@@ -134,7 +142,8 @@ void applyNormalMap(const Scene& scene, const Material& material, vec3 e1, vec3 
   vec3 b = glm::cross(n, t);
   if (glm::dot(b, dpdv) < 0) b = -b;
   vec3 c =
-      2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv) - vec3(1.0f);
+      2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv, s.footprint) -
+      vec3(1.0f);
   c.x *= material.normalScale;
   c.y *= material.normalScale;
   const vec3 mapped = c.x * t + c.y * b + c.z * n;
@@ -144,7 +153,8 @@ void applyNormalMap(const Scene& scene, const Material& material, vec3 e1, vec3 
 }
 }  // namespace
 
-SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
+SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
+                     const RayDifferentials* differentials) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
   vec3 p0, p1, p2;
@@ -167,10 +177,19 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time) {
   s.uv = mesh.uvs.empty() ? vec2(0.0f)
                           : b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
   s.materialId = mesh.materialIds[hit.primId];
+  // The triangle's tangents orient a normal map and turn differentials into a uv footprint:
+  // only a textured material needs them.
   const Material& material = scene.materials[s.materialId];
-  if (material.normalTexture >= 0 && !mesh.uvs.empty())
-    applyNormalMap(scene, material, p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
-                   mesh.uvs[idx[2]] - mesh.uvs[idx[0]], s);
+  const bool textured = material.albedoTexture >= 0 || material.metallicRoughnessTexture >= 0 ||
+                        material.emissionTexture >= 0 || material.normalTexture >= 0;
+  vec3 dpdu, dpdv, dpdx, dpdy;
+  if (!textured || mesh.uvs.empty() ||
+      !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
+                        mesh.uvs[idx[2]] - mesh.uvs[idx[0]], dpdu, dpdv))
+    return s;
+  if (differentials && differentialOffsets(*differentials, s.point, s.geometricNormal, dpdx, dpdy))
+    s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
+  if (material.normalTexture >= 0) applyNormalMap(scene, material, dpdu, dpdv, s);
   return s;
 }
 
@@ -180,6 +199,11 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   const Accel& accel = *prepared.accel;
   const int maxDepth = scene.settings.maxDepth;
   Ray ray = generateRay(prepared.camera, sample);
+  // A footprint of one pixel chooses the mip levels of the first hit's image textures; the
+  // hits of later rays read level 0.
+  const bool footprints = !scene.images.empty();
+  const RayDifferentials differentials =
+      footprints ? cameraRayDifferentials(prepared.camera, sample) : RayDifferentials{};
   vec3 radiance(0.0f), throughput(1.0f);
   bool specularBounce = false;
   float previousBsdfPdf = 0;
@@ -203,7 +227,8 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       if (features && cameraChain) features->emission += throughput * seen * weight;
       break;
     }
-    const SurfaceHit surface = surfaceAt(scene, hit, ray.time);
+    const SurfaceHit surface =
+        surfaceAt(scene, hit, ray.time, depth == 0 && footprints ? &differentials : nullptr);
     const Material& material = scene.materials[surface.materialId];
     const vec3 wo = -ray.direction;
 
@@ -215,7 +240,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
                                   surface.point, surface.geometricNormal, ray.time);
         weight = powerHeuristic(previousBsdfPdf, pl);
       }
-      const vec3 emitted = emittedRadiance(scene, material, surface.uv);
+      const vec3 emitted = emittedRadiance(scene, material, surface.uv, surface.footprint);
       radiance += throughput * emitted * weight;
       if (features && cameraChain) features->emission += throughput * emitted * weight;
     }

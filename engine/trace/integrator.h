@@ -7,6 +7,7 @@
 
 #include "scene/lights.h"
 #include "scene/scene.h"
+#include "scene/textures.h"
 #include "trace/accel.h"
 #include "trace/sampler.h"
 
@@ -74,8 +75,11 @@ struct SurfaceHit {
   vec3 geometricNormal;  // unit, counter-clockwise side
   vec3 shadingNormal;    // unit, same side as geometricNormal
   vec2 uv;
+  UvFootprint footprint;  // uv across one pixel (camera rays' hits); zero: textures' level 0
   uint32_t materialId = 0;
 };
-SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time);
+// With a camera ray's differentials, the hit's footprint for its texture lookups.
+SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
+                     const RayDifferentials* differentials = nullptr);
 
 }  // namespace penumbra

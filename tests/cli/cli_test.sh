@@ -117,7 +117,7 @@ for key in ("mse", "rel_mse", "tone_mapped_mse", "max_abs_error"):
     assert j[key] == 0, (key, j[key])
 assert j["psnr"] is None and j["non_finite"] == 0, j
 ' "$work/self.json"
-for key in time_seconds rays mrays_per_second spp nan_samples; do
+for key in time_seconds rays mrays_per_second spp nan_samples texture_bytes; do
   grep -q "\"$key\"" "$work/s.json" || { echo "FAIL: stats.json lacks $key"; failures=$((failures + 1)); }
 done
 # Same seed, different thread counts: identical bytes.

@@ -97,7 +97,9 @@ TEST(Environment, SamplesFollowLuminanceTimesSolidAngle) {
     const glm::vec2 ut = directionToEquirect(d);
     const int x = std::min(kW - 1, int(ut.x * kW)), y = std::min(kH - 1, int(ut.y * kH));
     counts[size_t(y * kW + x)] += 1;
-    if (i % 97 == 0) EXPECT_NEAR(light.pdf(d), pdf, 1e-3f * pdf) << "sample " << i;
+    if (i % 97 == 0) {
+      EXPECT_NEAR(light.pdf(d), pdf, 1e-3f * pdf) << "sample " << i;
+    }
   }
   double statistic = 0;
   int cells = 0;

@@ -6,6 +6,7 @@
 
 #include "core/image_io.h"
 #include "scene/scene_loader.h"
+#include "scene/textures.h"
 #include "tests/engine/scene/expect_scene_error.h"
 #include "tests/test_paths.h"
 
@@ -185,7 +186,7 @@ TEST(Gltf, MaterialsMapOntoOurs) {
   EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
 }
 
-TEST(Gltf, BaseColourTextureIsLinearTimesTheFactor) {
+TEST(Gltf, BaseColourTextureIsSrgbBytesWithTheFactorAtLookup) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
   // A 2x1 PNG: sRGB 255 and 128 in red.
@@ -197,10 +198,21 @@ TEST(Gltf, BaseColourTextureIsLinearTimesTheFactor) {
   ASSERT_GE(g.materials[0].albedoTexture, 0);
   const Texture& t = g.textures[size_t(g.materials[0].albedoTexture)];
   ASSERT_EQ(t.kind, Texture::Kind::Image);
-  const Image& image = g.images[size_t(t.imageIndex)];
-  ASSERT_EQ(image.width, 2);
-  EXPECT_NEAR(image.pixels[0].x, 0.5f, 1e-5f);               // 1.0 x factor 0.5
-  EXPECT_NEAR(image.pixels[1].x, 0.5f * 0.2158605f, 1e-4f);  // sRGB 128 -> 0.2159
+  const TextureImage& image = g.images[size_t(t.imageIndex)];
+  ASSERT_EQ(image.width(), 2);
+  EXPECT_EQ(image.encoding, TexelEncoding::Srgb8) << "8 bits stay 8 bits";
+  EXPECT_EQ(image.channels, 3);
+  EXPECT_EQ((*image.bytes)[3], 128);
+  EXPECT_EQ(textureTexel(image, 0, 1, 0).x, srgbToLinear(128.0f / 255.0f));
+  EXPECT_NEAR(t.factor.x, 0.5f, 1e-6f);
+  const Scene scene = [&] {
+    Scene s;
+    s.images = g.images;
+    return s;
+  }();
+  // At the texels' centres (v = 0.5, u = 1/4 and 3/4): the factor times the linear values.
+  EXPECT_NEAR(evalTexture(scene, t, {0.25f, 0.5f}).x, 0.5f, 1e-6f);               // 1.0 x 0.5
+  EXPECT_NEAR(evalTexture(scene, t, {0.75f, 0.5f}).x, 0.5f * 0.2158605f, 1e-6f);  // sRGB 128
 }
 
 TEST(Gltf, CamerasFirstByNameOrFramed) {
@@ -309,14 +321,18 @@ TEST(Gltf, NormalMapsCutoutsAndEmissionTexturesAreRead) {
   EXPECT_NEAR(m.alphaCutoff, 0.3f, 1e-6f);
   EXPECT_NEAR(m.alpha, 0.5f, 1e-6f);
   ASSERT_GE(m.alphaTexture, 0);
-  const Image& coverage = g.images[size_t(g.textures[size_t(m.alphaTexture)].imageIndex)];
-  EXPECT_NEAR(coverage.pixels[0].x, 0.2f, 1e-6f) << "alpha is linear, not sRGB";
-  EXPECT_NEAR(coverage.pixels[1].x, 1.0f, 1e-6f);
+  const TextureImage& coverage = g.images[size_t(g.textures[size_t(m.alphaTexture)].imageIndex)];
+  EXPECT_EQ(coverage.channels, 1) << "coverage keeps the alpha channel alone";
+  EXPECT_EQ(coverage.levels.size(), 1u) << "coverage is tested at level 0 only";
+  EXPECT_NEAR(textureTexel(coverage, 0, 0, 0).x, 0.2f, 1e-6f) << "alpha is linear, not sRGB";
+  EXPECT_NEAR(textureTexel(coverage, 0, 1, 0).x, 1.0f, 1e-6f);
   ASSERT_GE(m.normalTexture, 0);
   EXPECT_NEAR(m.normalScale, 0.5f, 1e-6f);
-  const Image& normals = g.images[size_t(g.textures[size_t(m.normalTexture)].imageIndex)];
-  EXPECT_NEAR(normals.pixels[0].y, 1.0f, 1e-6f);
-  EXPECT_NEAR(normals.pixels[0].x, 128.0f / 255.0f, 1e-6f) << "normal maps are data, not sRGB";
+  const TextureImage& normals = g.images[size_t(g.textures[size_t(m.normalTexture)].imageIndex)];
+  EXPECT_EQ(normals.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(normals, 0, 0, 0).y, 1.0f, 1e-6f);
+  EXPECT_NEAR(textureTexel(normals, 0, 0, 0).x, 128.0f / 255.0f, 1e-6f)
+      << "normal maps are data, not sRGB";
   // The metallic-roughness texture is data too: the same image, converted once.
   EXPECT_EQ(m.metallicRoughnessTexture, m.normalTexture);
   // The emissive material shares the colour conversion of image 0 (factor 1): one image.

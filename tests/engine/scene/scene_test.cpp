@@ -64,7 +64,9 @@ TEST(Motion, MirroringTransformKeepsFrontFacesOutward) {
                b = placed.positions[placed.indices[3 * t + 1]],
                c = placed.positions[placed.indices[3 * t + 2]];
     const vec3 n = glm::cross(b - a, c - a);
-    if (glm::length(n) > 1e-8f) EXPECT_GT(glm::dot(n, a + b + c), 0.0f);
+    if (glm::length(n) > 1e-8f) {
+      EXPECT_GT(glm::dot(n, a + b + c), 0.0f);
+    }
   }
 }
 

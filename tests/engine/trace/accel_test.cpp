@@ -41,7 +41,7 @@ TEST(Accel, RaysPassThroughTheHolesOfACutout) {
                                "cutout.json", ".");
   Image coverage(2, 1);
   coverage.pixels = {vec3(0.0f), vec3(1.0f)};
-  scene.images.push_back(coverage);
+  scene.images.push_back(makeTextureImage(coverage));
   Texture texture;
   texture.kind = Texture::Kind::Image;
   texture.imageIndex = 0;

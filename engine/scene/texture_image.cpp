@@ -1,0 +1,259 @@
+#include "scene/texture_image.h"
+
+#include "core/image_io.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace penumbra {
+
+namespace {
+
+// ---- building the pyramid -------------------------------------------------------------------
+
+// Level sizes from width x height down to 1 x 1 (halved, rounded down), or level 0 alone.
+std::vector<TextureImage::Level> levelSizes(int width, int height, int channels, bool mips) {
+  std::vector<TextureImage::Level> levels;
+  size_t offset = 0;
+  for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+    levels.push_back({w, h, offset});
+    offset += size_t(w) * size_t(h) * size_t(channels);
+    if (!mips || (w == 1 && h == 1)) break;
+  }
+  return levels;
+}
+
+// The source texels a box of the next level covers along one axis, with their weights: texel
+// i of `to` covers [i, i + 1) * from / to of `from`, each source texel weighted by its overlap,
+// so the level's mean is the mean of the one above for any size (odd ones included).
+struct Tap {
+  int source;
+  float weight;
+};
+std::vector<std::vector<Tap>> boxTaps(int from, int to) {
+  std::vector<std::vector<Tap>> taps(static_cast<size_t>(to));
+  const double scale = double(from) / double(to);
+  for (int i = 0; i < to; ++i) {
+    const double lo = i * scale, hi = (i + 1) * scale;
+    for (int k = int(std::floor(lo)); k < std::min(from, int(std::ceil(hi))); ++k) {
+      const double overlap = std::min(hi, double(k + 1)) - std::max(lo, double(k));
+      if (overlap > 0) taps[size_t(i)].push_back({k, float(overlap / scale)});
+    }
+  }
+  return taps;
+}
+
+// The next level (w2 x h2) of a w x h level read through fetch(x, y, channel) as linear values.
+template <typename Fetch>
+std::vector<float> downsample(int w, int h, int channels, int w2, int h2, Fetch fetch) {
+  const auto tapsX = boxTaps(w, w2), tapsY = boxTaps(h, h2);
+  std::vector<float> out(size_t(w2) * size_t(h2) * size_t(channels), 0.0f);
+  for (int y = 0; y < h2; ++y)
+    for (int x = 0; x < w2; ++x)
+      for (int c = 0; c < channels; ++c) {
+        float sum = 0;
+        for (const Tap& ty : tapsY[size_t(y)])
+          for (const Tap& tx : tapsX[size_t(x)])
+            sum += ty.weight * tx.weight * fetch(tx.source, ty.source, c);
+        out[(size_t(y) * size_t(w2) + size_t(x)) * size_t(channels) + size_t(c)] = sum;
+      }
+  return out;
+}
+
+uint8_t encode8(float v, TexelEncoding encoding) {
+  if (encoding == TexelEncoding::Srgb8) return linearToSrgb8(v);
+  return uint8_t(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f)));
+}
+
+// v / 255 for every byte (a table, so that it costs what the sRGB table costs and gives the
+// bits of the division).
+const std::array<float, 256> kLinear8 = [] {
+  std::array<float, 256> table{};
+  for (int i = 0; i < 256; ++i) table[size_t(i)] = float(i) / 255.0f;
+  return table;
+}();
+
+float decode8(uint8_t v, TexelEncoding encoding) {
+  return encoding == TexelEncoding::Srgb8 ? srgb8ToLinear(v) : kLinear8[v];
+}
+
+// Fills levels 1 and up of `values` (level 0 in place, the vector sized for all of them):
+// each level is averaged from the float values of the one above (level 0 decoded as it is
+// read), then stored in the image's encoding; only one float level is held at a time.
+template <typename Value, typename Decode, typename Encode>
+void buildMips(const std::vector<TextureImage::Level>& levels, int channels,
+               std::vector<Value>& values, Decode decode, Encode encode) {
+  std::vector<float> above;
+  for (size_t l = 1; l < levels.size(); ++l) {
+    const TextureImage::Level& from = levels[l - 1];
+    const TextureImage::Level& to = levels[l];
+    const auto index = [&](int x, int y, int c) {
+      return (size_t(y) * size_t(from.width) + size_t(x)) * size_t(channels) + size_t(c);
+    };
+    std::vector<float> level =
+        l == 1 ? downsample(from.width, from.height, channels, to.width, to.height,
+                            [&](int x, int y, int c) { return decode(values[index(x, y, c)]); })
+               : downsample(from.width, from.height, channels, to.width, to.height,
+                            [&](int x, int y, int c) { return above[index(x, y, c)]; });
+    for (size_t i = 0; i < level.size(); ++i) values[to.offset + i] = encode(level[i]);
+    above = std::move(level);
+  }
+}
+
+void checkSize(int width, int height, int channels, size_t count) {
+  if (width <= 0 || height <= 0 || (channels != 1 && channels != 3) ||
+      count != size_t(width) * size_t(height) * size_t(channels))
+    throw std::invalid_argument("texture image: " + std::to_string(count) + " values for " +
+                                std::to_string(width) + "x" + std::to_string(height) + "x" +
+                                std::to_string(channels));
+}
+
+// ---- lookups --------------------------------------------------------------------------------
+
+// Bilinear at one level through texel(index of the texel's first value) -> linear RGB.
+template <typename Texel>
+vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texel texel) {
+  const int w = level.width, h = level.height;
+  const float x = (uv.x - std::floor(uv.x)) * float(w) - 0.5f;
+  const float y = (1.0f - (uv.y - std::floor(uv.y))) * float(h) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  const auto at = [&](int ix, int iy) {
+    ix = ((ix % w) + w) % w;
+    iy = ((iy % h) + h) % h;
+    return texel(level.offset + (size_t(iy) * size_t(w) + size_t(ix)) * size_t(channels));
+  };
+  const int ix = int(fx), iy = int(fy);
+  return (1 - ty) * ((1 - tx) * at(ix, iy) + tx * at(ix + 1, iy)) +
+         ty * ((1 - tx) * at(ix, iy + 1) + tx * at(ix + 1, iy + 1));
+}
+
+// Calls f with the function that reads a texel of `image` as linear RGB.
+template <typename F>
+vec3 withTexelReader(const TextureImage& image, F f) {
+  const bool grey = image.channels == 1;
+  switch (image.encoding) {
+    case TexelEncoding::Srgb8: {
+      const uint8_t* v = image.bytes->data();
+      if (grey) return f([v](size_t i) { return vec3(srgb8ToLinear(v[i])); });
+      return f([v](size_t i) {
+        return vec3(srgb8ToLinear(v[i]), srgb8ToLinear(v[i + 1]), srgb8ToLinear(v[i + 2]));
+      });
+    }
+    case TexelEncoding::Linear8: {
+      const uint8_t* v = image.bytes->data();
+      const float* k = kLinear8.data();
+      if (grey) return f([v, k](size_t i) { return vec3(k[v[i]]); });
+      return f([v, k](size_t i) { return vec3(k[v[i]], k[v[i + 1]], k[v[i + 2]]); });
+    }
+    case TexelEncoding::Float: {
+      const float* v = image.floats->data();
+      if (grey) return f([v](size_t i) { return vec3(v[i]); });
+      return f([v](size_t i) { return vec3(v[i], v[i + 1], v[i + 2]); });
+    }
+  }
+  return vec3(0.0f);
+}
+
+}  // namespace
+
+size_t TextureImage::byteSize() const {
+  return (bytes ? bytes->size() : 0) + (floats ? floats->size() * sizeof(float) : 0);
+}
+
+TextureImage makeTextureImage8(int width, int height, int channels, std::vector<uint8_t> texels,
+                               TexelEncoding encoding, bool mips) {
+  checkSize(width, height, channels, texels.size());
+  if (encoding == TexelEncoding::Float)
+    throw std::invalid_argument("texture image: 8-bit texels cannot be Float");
+  TextureImage image;
+  image.encoding = encoding;
+  image.channels = channels;
+  image.levels = levelSizes(width, height, channels, mips);
+  const TextureImage::Level& last = image.levels.back();
+  texels.resize(last.offset + size_t(last.width) * size_t(last.height) * size_t(channels));
+  buildMips(
+      image.levels, channels, texels, [encoding](uint8_t v) { return decode8(v, encoding); },
+      [encoding](float v) { return encode8(v, encoding); });
+  image.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(texels));
+  return image;
+}
+
+TextureImage makeTextureImageFloat(int width, int height, int channels, std::vector<float> texels,
+                                   bool mips) {
+  checkSize(width, height, channels, texels.size());
+  TextureImage image;
+  image.encoding = TexelEncoding::Float;
+  image.channels = channels;
+  image.levels = levelSizes(width, height, channels, mips);
+  const TextureImage::Level& last = image.levels.back();
+  texels.resize(last.offset + size_t(last.width) * size_t(last.height) * size_t(channels));
+  buildMips(
+      image.levels, channels, texels, [](float v) { return v; }, [](float v) { return v; });
+  image.floats = std::make_shared<const std::vector<float>>(std::move(texels));
+  return image;
+}
+
+TextureImage makeTextureImage(const Image& image, bool mips) {
+  std::vector<float> texels;
+  texels.reserve(image.pixels.size() * 3);
+  for (const vec3& c : image.pixels) texels.insert(texels.end(), {c.x, c.y, c.z});
+  return makeTextureImageFloat(image.width, image.height, 3, std::move(texels), mips);
+}
+
+TextureImage readTextureImage(const std::string& path) {
+  if (std::optional<Image8> raw = readImage8(path))
+    return makeTextureImage8(raw->width, raw->height, raw->channels, std::move(raw->data),
+                             TexelEncoding::Srgb8);
+  return makeTextureImage(readImage(path));
+}
+
+vec3 textureTexel(const TextureImage& image, int level, int x, int y) {
+  const TextureImage::Level& l = image.levels[size_t(level)];
+  x = ((x % l.width) + l.width) % l.width;
+  y = ((y % l.height) + l.height) % l.height;
+  const size_t index =
+      l.offset + (size_t(y) * size_t(l.width) + size_t(x)) * size_t(image.channels);
+  return withTexelReader(image, [index](auto texel) { return texel(index); });
+}
+
+vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv) {
+  const TextureImage::Level& l = image.levels[size_t(level)];
+  return withTexelReader(image, [&](auto texel) { return bilinear(l, image.channels, uv, texel); });
+}
+
+float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy) {
+  const glm::vec2 size(float(image.width()), float(image.height()));
+  const float footprint = std::max(glm::length(dx * size), glm::length(dy * size));
+  if (!(footprint > 1.0f)) return 0.0f;  // finer than a texel of level 0 (or NaN)
+  return std::min(std::log2(footprint), float(image.levels.size() - 1));
+}
+
+vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy) {
+  const float level = textureMipLevel(image, dx, dy);
+  const int fine = int(level);
+  if (level <= 0.0f || fine + 1 >= int(image.levels.size()))
+    return sampleTextureLevel(image, fine, uv);
+  const float t = level - float(fine);
+  return (1 - t) * sampleTextureLevel(image, fine, uv) +
+         t * sampleTextureLevel(image, fine + 1, uv);
+}
+
+float imageMeanLuminance(const TextureImage& image, vec3 factor) {
+  if (image.empty()) return 0.0f;
+  const int w = image.width(), h = image.height();
+  double sum = 0;
+  withTexelReader(image, [&](auto texel) {
+    for (size_t i = 0; i < size_t(w) * size_t(h); ++i)
+      sum += double(luminance(factor * texel(i * size_t(image.channels))));
+    return vec3(0.0f);
+  });
+  return float(sum / (double(w) * double(h)));
+}
+
+}  // namespace penumbra
