@@ -7,17 +7,71 @@
 #   3. two orbit drags, each mouse step restarting rendering: restart to first picture.
 # Prints the frame rate of (1) against the 60 fps goal and its 95th-percentile frame time,
 # and how much rendering (kept spp reached) the continuous redraw costs against (2).
+#
+# With --asset: the asset scene (scripts/make_asset_scene.sh: textures, 510k triangles, an
+# environment map) at 1280x720, opened in the window with the default method and with LD.
+# Prints, for each: the time from opening to the first full picture (every pixel sampled,
+# reconstructed), the window's trace speed against a batch render's (kept samples per second),
+# and the shown picture's relMSE against a 64-spp LD render at 0.5, 1, 2 and 4 s.
 # Usage: bench/viewer_fps.sh [SCENE] [--size 512x512] [--seconds 10]
+#        bench/viewer_fps.sh --asset
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=scenes/balls.json size=512x512 seconds=10
+scene=scenes/balls.json size=512x512 seconds=10 asset=0
 while [ $# -gt 0 ]; do
   case $1 in
     --size) size=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
+    --asset) asset=1; shift ;;
     *) scene=$1; shift ;;
   esac
 done
+if [ $asset -eq 1 ]; then
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+  scene=build/bench/asset_scene/scene.json size=1280x720
+  [ -f "$scene" ] || scripts/make_asset_scene.sh >/dev/null
+  echo "asset scene $scene at $size: reference (LD, 64 spp)..."
+  build/penumbra render "$scene" --method ld --spp 64 --size $size -q -o "$work/ref.exr"
+  printf 'wait 0.5\nsave %s/t0.5.exr\nwait 0.5\nsave %s/t1.exr\nwait 1\nsave %s/t2.exr\nwait 2\nsave %s/t4.exr\nquit\n' \
+    "$work" "$work" "$work" "$work" >"$work/times.txt"
+  for method in bp ld; do
+    build/penumbra render "$scene" --method $method --spp 4 --size $size -q -o "$work/batch.exr" \
+      --stats "$work/batch_$method.json"
+    mkdir -p "$work/$method"
+    sed "s|$work/t|$work/$method/t|g" "$work/times.txt" >"$work/$method/times.txt"
+    xvfb-run -a -s "-screen 0 1640x800x24" build/penumbra view "$scene" --size $size \
+      --method $method --script "$work/$method/times.txt" --report "$work/$method/report.json" \
+      >/dev/null 2>&1
+    for t in 0.5 1 2 4; do
+      if [ -f "$work/$method/t$t.exr" ]; then
+        build/penumbra diff "$work/$method/t$t.exr" "$work/ref.exr" | awk '$1 == "rel_mse" {print $2}'
+      else
+        echo nan
+      fi >"$work/$method/relmse_$t.txt"
+    done
+  done
+  python3 - "$work" <<'PY'
+import json, os, sys
+w = sys.argv[1]
+rel = {m: [float(open(os.path.join(w, m, "relmse_%s.txt" % t)).read() or "nan")
+           for t in ("0.5", "1", "2", "4")] for m in ("bp", "ld")}
+for m in ("bp", "ld"):
+    r = json.load(open(os.path.join(w, m, "report.json")))
+    b = json.load(open(os.path.join(w, "batch_%s.json" % m)))
+    window_rate = r["kept_spp"] / max(r["wall_seconds"], 1e-9)
+    batch_rate = b["spp"] / max(b["time_seconds"], 1e-9)
+    print("%-3s first full picture %6.0f ms (worst %6.0f); window trace speed %.2f x batch "
+          "(%.2f vs %.2f spp/s)" % (m, r["first_full_picture_ms_mean"],
+          r["first_full_picture_ms_max"], window_rate / batch_rate, window_rate, batch_rate))
+print("relMSE after opening   0.5 s      1 s      2 s      4 s")
+for m in ("bp", "ld"):
+    print("%-3s                  " % m + "  ".join("%8.3g" % v for v in rel[m]))
+print("bp / ld               " + "  ".join("%8.2f" % (a / b) if b == b and b > 0 else "     nan"
+                                           for a, b in zip(rel["bp"], rel["ld"])))
+PY
+  exit 0
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 printf 'wait %s\nquit\n' "$seconds" >"$work/script.txt"

@@ -106,7 +106,7 @@ InputScript InputScript::parse(const std::string& text, const std::string& name)
         c.numbers.push_back(60.0);
       else
         numbers(0, 1);
-    } else if (c.verb == "screenshot") {
+    } else if (c.verb == "screenshot" || c.verb == "save") {
       if (args.size() != 1) fail("expected a path");
       c.text = args[0];
     } else if (c.verb != "iconify" && c.verb != "restore" && c.verb != "quit") {
@@ -181,6 +181,8 @@ bool InputScript::step(double now, ScriptHost& host) {
       }
     } else if (c.verb == "screenshot") {
       host.screenshot(c.text);
+    } else if (c.verb == "save") {
+      host.saveImage(c.text);
     } else if (c.verb == "quit") {
       host.quit();
       return false;

@@ -12,6 +12,8 @@
 //   wait-round [SECONDS]         wait until a round of the current view has landed (at most
 //                                SECONDS, default 60): makes a script independent of speed
 //   screenshot PATH              write the next frame to PATH
+//   save PATH                    write the shown image (linear .exr/.pfm, or .png) to PATH, as
+//                                the panel's save does: for measuring the picture over time
 //   quit                         close the viewer
 #pragma once
 
@@ -37,6 +39,7 @@ class ScriptHost {
   virtual void resize(int width, int height) = 0;
   virtual void iconify(bool minimise) = 0;
   virtual void screenshot(const std::string& path) = 0;
+  virtual void saveImage(const std::string& path) = 0;
   virtual bool roundShown() = 0;  // a round of the current view is on screen
   virtual void quit() = 0;
 };

@@ -72,6 +72,10 @@ struct Window final : ScriptHost {
     touched();
     app->requestScreenshot(path);
   }
+  void saveImage(const std::string& path) override {
+    const std::string message = app->saveImage(path);
+    std::fprintf(stderr, "penumbra view: %s\n", message.c_str());
+  }
   void quit() override { glfwSetWindowShouldClose(window, GLFW_TRUE); }
   bool roundShown() override { return app->roundShown(); }
 };

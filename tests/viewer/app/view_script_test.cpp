@@ -28,6 +28,7 @@ struct Recorder final : ScriptHost {
   }
   void iconify(bool m) override { events.push_back(m ? "iconify" : "restore"); }
   void screenshot(const std::string& p) override { events.push_back("screenshot " + p); }
+  void saveImage(const std::string& p) override { events.push_back("save " + p); }
   void quit() override { events.push_back("quit"); }
   bool roundShown() override { return rounds > 0; }
   int rounds = 0;
@@ -51,6 +52,16 @@ TEST(ViewScript, RunsCommandsInOrderAndWaits) {
   EXPECT_EQ(r.events[5], "resize 0x0");
   EXPECT_FALSE(s.step(1.1, r));
   EXPECT_EQ(r.events.back(), "quit");
+}
+
+TEST(ViewScript, SavesTheShownImageAndTakesScreenshots) {
+  InputScript s = InputScript::parse("save t1.exr\nscreenshot s.png\n", "t");
+  Recorder r;
+  EXPECT_FALSE(s.step(0.0, r));
+  ASSERT_EQ(r.events.size(), 2u);
+  EXPECT_EQ(r.events[0], "save t1.exr");
+  EXPECT_EQ(r.events[1], "screenshot s.png");
+  EXPECT_THROW(InputScript::parse("save\n", "t"), ScriptError);
 }
 
 TEST(ViewScript, WaitRoundWaitsForARoundOrItsTimeout) {
