@@ -384,7 +384,6 @@ Surface pattern(double s, double t, const Extent& e) {
   return out;
 }
 
-
 // The five textures, size x size texels each; texel (i, j) (j = 0 the top row) samples
 // (s, t) = ((i + 0.5) / size, (j + 0.5) / size): glTF's uv, v down the image.
 std::vector<Image8> makeTextures(int size, const Extent& extent) {
@@ -543,7 +542,6 @@ Mesh makeBoulder(const std::string& name, dvec3 at, double radius, uint32_t seed
   return m;
 }
 
-
 json pbr(const std::string& name, dvec3 color, double metallic, double roughness) {
   return {{"name", name},
           {"pbrMetallicRoughness",
@@ -608,7 +606,6 @@ SetInfo writeSet(const std::filesystem::path& path, double pedestalTop) {
   return {setTriangles, parts.size()};
 }
 
-
 int run(int argc, char** argv) {
   std::filesystem::path outDir;
   int textureSize = 2048;
@@ -620,8 +617,7 @@ int run(int argc, char** argv) {
     else if (a == "--env" && i + 1 < argc)
       env = argv[++i];
     else if (a == "-h" || a == "--help") {
-      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--env FILE.hdr]\n",
-                  argv[0]);
+      std::printf("usage: %s OUT_DIR [--texture-size N (2048)] [--env FILE.hdr]\n", argv[0]);
       return 0;
     } else if (outDir.empty() && !a.empty() && a[0] != '-')
       outDir = a;

@@ -106,7 +106,8 @@ void applyEnvironmentOptions(const SceneOptions& o, Scene& scene) {
   }
   if ((o.environmentStrength || o.environmentRotation) && !e.present())
     throw CommandError(std::string(o.environmentStrength ? "--env-strength" : "--env-rotation") +
-                       ": " + scene.sourcePath + " has no environment to change (give one with "
+                       ": " + scene.sourcePath +
+                       " has no environment to change (give one with "
                        "--env FILE)");
   if (o.environmentStrength) e.strength = *o.environmentStrength;
   if (o.environmentRotation) e.rotationDegrees = *o.environmentRotation;

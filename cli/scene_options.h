@@ -1,6 +1,6 @@
 // Command-line options shared by every command that loads a scene (render, view, reference,
-// compare): image size, depth, camera and environment overrides. The samples per pixel are the run's
-// (run_options.h), whose default is the scene's render.spp.
+// compare): image size, depth, camera and environment overrides. The samples per pixel are the
+// run's (run_options.h), whose default is the scene's render.spp.
 #pragma once
 
 #include "scene/scene.h"

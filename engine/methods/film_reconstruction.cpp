@@ -13,8 +13,8 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
                                      const std::atomic<bool>* cancel) {
   // The emission's variance is not read; the buffers but the mean go once the filter has read
   // them (they are as large as the filter's own planes).
-  FilmBuffers b =
-      film.buffers(FilmBuffers::kRadiance | FilmBuffers::kFeatures | FilmBuffers::kFeatureVariances);
+  FilmBuffers b = film.buffers(FilmBuffers::kRadiance | FilmBuffers::kFeatures |
+                               FilmBuffers::kFeatureVariances);
   recon::DenoiseInput in;
   in.width = b.width;
   in.height = b.height;
@@ -31,8 +31,8 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
   in.depthVariance = b.depthVariance;
   return recon::denoise(in, config, cancel, [&b] {
     // All but the mean, which `in` still points into.
-    for (std::vector<vec3>* v : {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo,
-                                 &b.albedoVariance, &b.normal})
+    for (std::vector<vec3>* v :
+         {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
       std::vector<vec3>().swap(*v);
     for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
       std::vector<float>().swap(*v);

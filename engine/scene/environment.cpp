@@ -56,13 +56,12 @@ std::shared_ptr<const Image> builtinEnvironmentMap() {
   // 128 x 64 texels: fine enough for the broad lobes below, small enough to build at once.
   constexpr int kWidth = 128, kHeight = 64;
   Image image(kWidth, kHeight);
-  const vec3 key = glm::normalize(vec3(-0.55f, 0.65f, 0.55f));   // high, front left
-  const vec3 fill = glm::normalize(vec3(0.8f, 0.25f, 0.35f));    // low, right
-  const vec3 rim = glm::normalize(vec3(0.1f, 0.45f, -0.9f));     // behind
+  const vec3 key = glm::normalize(vec3(-0.55f, 0.65f, 0.55f));  // high, front left
+  const vec3 fill = glm::normalize(vec3(0.8f, 0.25f, 0.35f));   // low, right
+  const vec3 rim = glm::normalize(vec3(0.1f, 0.45f, -0.9f));    // behind
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
-      const vec3 d =
-          equirectToDirection({(float(x) + 0.5f) / kWidth, (float(y) + 0.5f) / kHeight});
+      const vec3 d = equirectToDirection({(float(x) + 0.5f) / kWidth, (float(y) + 0.5f) / kHeight});
       // A grey room: brighter overhead, a darker floor, a soft step at the horizon.
       const float up = std::clamp(d.y * 4.0f, -1.0f, 1.0f);
       float level = d.y >= 0 ? 0.55f + 0.35f * d.y : 0.25f;
@@ -103,8 +102,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
   for (size_t j = 0; j < h; ++j)
     for (size_t i = 0; i < w; ++i) {
       const float* row = &texelLuminance[j * w];
-      rowFiltered[j * w + i] =
-          0.75f * row[i] + 0.125f * (row[(i + w - 1) % w] + row[(i + 1) % w]);
+      rowFiltered[j * w + i] = 0.75f * row[i] + 0.125f * (row[(i + w - 1) % w] + row[(i + 1) % w]);
     }
   std::vector<float> cellLuminance(w * h);
   for (size_t j = 0; j < h; ++j)
@@ -202,8 +200,8 @@ bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf) const {
   pdf = cellPdf_[size_t(j) * size_t(width_) + size_t(i)];
   if (!(pdf > 0)) return false;
   // Uniform in azimuth and in cos theta within the texel.
-  const float cosTheta = cosRowEdge_[size_t(j)] +
-                         vRemapped * (cosRowEdge_[size_t(j) + 1] - cosRowEdge_[size_t(j)]);
+  const float cosTheta =
+      cosRowEdge_[size_t(j)] + vRemapped * (cosRowEdge_[size_t(j) + 1] - cosRowEdge_[size_t(j)]);
   const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
   const float phi = 2.0f * kPi * ((float(i) + uRemapped) / float(width_) - 0.5f);
   direction = toWorld({sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)});

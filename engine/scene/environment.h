@@ -15,11 +15,12 @@
 //
 // Sampling (pbrt-v4's and Cycles' approach): a piecewise-constant 2D distribution whose cells
 // are the map's texels, each weighing its luminance times its solid angle (the integral of
-// sin theta over the texel), the luminance being the texel's mean under the bilinear lookup. Within a texel the direction is uniform in azimuth and in
-// cos theta, so the pdf in solid angle is constant on the texel: a constant map (one texel)
-// is sampled uniformly over the sphere, and the pdf follows the map exactly where the map is
-// piecewise constant. The radiance is looked up bilinearly; multiple importance sampling with
-// BSDF sampling keeps the estimate unbiased where the two differ.
+// sin theta over the texel), the luminance being the texel's mean under the bilinear lookup.
+// Within a texel the direction is uniform in azimuth and in cos theta, so the pdf in solid
+// angle is constant on the texel: a constant map (one texel) is sampled uniformly over the
+// sphere, and the pdf is proportional to the radiance wherever a texel and its neighbours
+// agree. Multiple importance sampling with BSDF sampling keeps the estimate unbiased where the
+// two differ.
 #pragma once
 
 #include "core/image.h"

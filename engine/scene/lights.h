@@ -45,7 +45,8 @@ std::shared_ptr<const EnvironmentLight> lightingEnvironment(const Scene& scene);
 // What a ray that leaves the scene sees: camera rays (`cameraRay`) see the backdrop (the
 // background when the scene has both an environment and a background; nothing when the scene is
 // transparent), the others the lighting environment.
-vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction, bool cameraRay);
+vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction,
+                     bool cameraRay);
 // Solid-angle pdf with which sampleLight would produce `direction` from the environment.
 float environmentPdf(const LightSampler& lights, vec3 direction);
 

@@ -92,7 +92,8 @@ void ViewerApp::setEnvironment(EnvironmentEdit edit) {
   options_.scene = std::move(relit);
   watchSceneFiles();
   const Environment& e = options_.scene->scene.environment;
-  message_ = !e.present() ? "no environment" : "environment " + (e.builtin ? std::string("(built-in)") : e.file);
+  message_ = !e.present() ? "no environment"
+                          : "environment " + (e.builtin ? std::string("(built-in)") : e.file);
   restart();
 }
 

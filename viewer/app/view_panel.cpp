@@ -323,9 +323,9 @@ void drawPanel(const PanelState& state, const PanelActions& actions) {
     // The map that lights the scene (an equirectangular .exr or .hdr, top row up), its
     // strength and its turn about +y; "none" removes it. A change restarts the render.
     const Environment& e = o.scene->scene.environment;
-    ImGui::TextWrapped("%s", !e.present()  ? "(none)"
-                             : e.builtin   ? "(built-in studio)"
-                                           : e.file.c_str());
+    ImGui::TextWrapped("%s", !e.present() ? "(none)"
+                             : e.builtin  ? "(built-in studio)"
+                                          : e.file.c_str());
     ImGui::InputText("map file", v.environmentField, sizeof v.environmentField);
     bool changed = false;
     std::string file;  // empty: keep the map

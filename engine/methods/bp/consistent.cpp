@@ -182,9 +182,8 @@ size_t bytesOf(const std::vector<T>& v) {
 
 size_t ConsistentMethod::memoryBytes() const {
   size_t bytes = s_.memoryBytes() + film_.memoryBytes() + bytesOf(sliceDrawn_) +
-                 bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) +
-                 bytesOf(addedLastRound_) + bytesOf(errorAtReconstruction_) +
-                 bytesOf(countAtReconstruction_);
+                 bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) + bytesOf(addedLastRound_) +
+                 bytesOf(errorAtReconstruction_) + bytesOf(countAtReconstruction_);
   if (lastReconstruction_) {
     const recon::DenoiseResult& r = *lastReconstruction_;
     bytes += bytesOf(r.output.pixels) + bytesOf(r.scale) + bytesOf(r.mseEstimate) +
@@ -364,18 +363,17 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
   if (!coarseComplete()) return;
   s_.tone = toneMapFor(film_.meanImage());
   if (!coarseTraced_.empty())
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
-        [&](const tbb::blocked_range<size_t>& range) {
-          for (size_t p = range.begin(); p < range.end(); ++p) {
-            const int px = int(p % s_.width), py = int(p / s_.width);
-            for (const TracedSample& t : coarseTraced_[p])
-              s_.store.keep(p,
-                            makeStoredSample(t.camera, px, py, t.radiance, s_.tone,
-                                             s_.config.slicesPerSide),
-                            s_.tone);
-          }
-        });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixelCount, kPixelGrain),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t p = range.begin(); p < range.end(); ++p) {
+                          const int px = int(p % s_.width), py = int(p / s_.width);
+                          for (const TracedSample& t : coarseTraced_[p])
+                            s_.store.keep(p,
+                                          makeStoredSample(t.camera, px, py, t.radiance, s_.tone,
+                                                           s_.config.slicesPerSide),
+                                          s_.tone);
+                        }
+                      });
   std::vector<std::vector<TracedSample>>().swap(coarseTraced_);
   trainDue(cancel);
 }

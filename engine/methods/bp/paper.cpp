@@ -46,9 +46,7 @@ class PaperMethod final : public ProgressiveMethod {
   int roundsDone() const override { return s_.rounds; }
   double budgetShare() const override { return s_.schedule.share(s_.spent); }
 
-  size_t memoryBytes() const override {
-    return s_.memoryBytes();
-  }
+  size_t memoryBytes() const override { return s_.memoryBytes(); }
 
   std::shared_ptr<Snapshot> snapshot(bool reconstructImage,
                                      const std::atomic<bool>* cancel) override;

@@ -81,8 +81,7 @@ TEST(Environment, SamplesFollowLuminanceTimesSolidAngle) {
     for (int x = 0; x < kW; ++x) {
       const double solidAngle =
           2 * kPi / kW * (std::cos(kPi * y / kH) - std::cos(kPi * (y + 1) / kH));
-      const double mean =
-          0.75 * rowMean(x, y) + 0.125 * (rowMean(x, y - 1) + rowMean(x, y + 1));
+      const double mean = 0.75 * rowMean(x, y) + 0.125 * (rowMean(x, y - 1) + rowMean(x, y + 1));
       expected[size_t(y * kW + x)] = mean * solidAngle;
       total += expected[size_t(y * kW + x)];
     }

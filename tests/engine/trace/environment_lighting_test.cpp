@@ -62,8 +62,8 @@ double lambertianUpRadiance(const EnvironmentLight& light, double albedo) {
     const double s = std::sqrt(1 - z * z);
     for (int j = 0; j < kN; ++j) {
       const double phi = 2 * kPi * (j + 0.5) / kN;
-      sum += luminance(light.radiance(vec3(float(s * std::cos(phi)), float(z),
-                                           float(s * std::sin(phi))))) *
+      sum += luminance(light.radiance(
+                 vec3(float(s * std::cos(phi)), float(z), float(s * std::sin(phi))))) *
              z;
     }
   }
