@@ -1,7 +1,7 @@
 // Unidirectional path tracer: next-event estimation on the lights (area, punctual and the
 // environment) combined with BSDF sampling by multiple importance sampling (power
-// heuristic), Russian roulette after the third vertex, and a maximum depth (pbrt-v4 convention: 0 = emitters seen
-// directly, 1 = direct lighting, ...). `traceRadiance` is the one entry point every
+// heuristic), Russian roulette after the third vertex, and a maximum depth (pbrt-v4 convention: 0 =
+// emitters seen directly, 1 = direct lighting, ...). `traceRadiance` is the one entry point every
 // sampler calls: radiance (linear RGB) of the camera sample at a given 5D point.
 #pragma once
 

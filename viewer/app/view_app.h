@@ -125,7 +125,7 @@ class ViewerApp {
   Image backdrop_;  // the full picture when the region was set (shown dimmed outside it)
   std::vector<FileStamp> stamps_;
   std::chrono::steady_clock::time_point lastFileCheck_;
-  std::string configError_;  // why the panel's parameters cannot start
+  std::string configError_;                         // why the panel's parameters cannot start
   std::optional<EnvironmentEdit> environmentEdit_;  // the panel's, reapplied on reload
   void syncEnvironmentFields();                     // the panel's fields from the scene
 

@@ -35,9 +35,9 @@ struct PanelActions {
   std::function<void()> shownImageChanged;                   // raw/reconstructed toggled
   std::function<std::string(const std::string&)> saveImage;  // returns a message
   std::function<void(const std::string&)> requestScreenshot;
-  std::function<void(int, int)> inspectPixel;         // (-1, -1): none
-  std::function<void(const std::string&)> openScene;  // the message says how it went
-  std::function<void(RenderRegion)> setRegion;        // an empty region renders everything
+  std::function<void(int, int)> inspectPixel;                  // (-1, -1): none
+  std::function<void(const std::string&)> openScene;           // the message says how it went
+  std::function<void(RenderRegion)> setRegion;                 // an empty region renders everything
   std::function<void(const EnvironmentEdit&)> setEnvironment;  // the message says how it went
 };
 

@@ -441,7 +441,8 @@ TEST(Integrator, EmittersShineOnlyFromTheirCounterClockwiseSide) {
   const auto diskSeenFrom = [](const std::string& eyeY) {
     return sceneFrom(R"({
     "render": {"width": 4, "height": 4, "max_depth": 0},
-    "camera": {"eye": [0, )" + eyeY + R"(, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 5},
+    "camera": {"eye": [0, )" +
+                     eyeY + R"(, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 5},
     "materials": {"lamp": {"type": "emissive", "radiance": 3}},
     "objects": [{"shape": "disk", "radius": 1, "material": "lamp"}]})");
   };
