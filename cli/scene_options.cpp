@@ -91,19 +91,14 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
 
 namespace {
 void applyEnvironmentOptions(const SceneOptions& o, Scene& scene) {
-  Environment& e = scene.environment;
-  if (o.environment == "none") {
-    e = Environment{};
-  } else if (!o.environment.empty()) {
+  if (!o.environment.empty()) {
     try {
-      e.map = readEnvironmentMap(o.environment);
+      replaceEnvironment(scene, o.environment);
     } catch (const SceneError& error) {
       throw CommandError(std::string("--env ") + error.what());
     }
-    e.file = o.environment;
-    e.builtin = false;
-    scene.sourceFiles.push_back(o.environment);
   }
+  Environment& e = scene.environment;
   if ((o.environmentStrength || o.environmentRotation) && !e.present())
     throw CommandError(std::string(o.environmentStrength ? "--env-strength" : "--env-rotation") +
                        ": " + scene.sourcePath +

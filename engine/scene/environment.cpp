@@ -143,14 +143,8 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
   }
   rowCdf_[h] = 1.0f;
   if (!(total > 0)) return;
-  for (size_t j = 0; j < h; ++j) {
-    const double solidAngle =
-        2.0 * kPiD / double(w) * (double(cosRowEdge_[j]) - double(cosRowEdge_[j + 1]));
-    for (size_t i = 0; i < w; ++i) {
-      const double p = double(cellLuminance[j * w + i]) * solidAngle / total;
-      cellPdf_[j * w + i] = solidAngle > 0 ? float(p / solidAngle) : 0.0f;
-    }
-  }
+  // A texel's probability over its solid angle: its luminance over the total.
+  for (size_t c = 0; c < h * w; ++c) cellPdf_[c] = float(double(cellLuminance[c]) / total);
 }
 
 EnvironmentLight EnvironmentLight::constant(vec3 radiance) {

@@ -105,10 +105,15 @@ LightSampler buildLightSampler(const Scene& scene) {
       sum += w;
     }
   }
-  vec3 lo, hi;
-  sceneBounds(scene, lo, hi);
-  const float radius = lo.x <= hi.x ? 0.5f * glm::length(hi - lo) : 1.0f;
   ls.environment = lightingEnvironment(scene);
+  // The scene's cross-section weighs the lights from far away (the environment, directional
+  // lights); the bounds are a pass over every vertex, made only when such a light is there.
+  float radius = 1.0f;
+  if (ls.environment || !scene.lights.empty()) {
+    vec3 lo, hi;
+    sceneBounds(scene, lo, hi);
+    if (lo.x <= hi.x) radius = 0.5f * glm::length(hi - lo);
+  }
   if (ls.environment) {
     // Power over pi through the scene's cross-section, as for a directional light (whose
     // illuminance is what the environment's integrated radiance generalises).

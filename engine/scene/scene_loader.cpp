@@ -711,6 +711,18 @@ Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   return parseSceneJson(text, path, fs::path(path).parent_path().string());
 }
 
+void replaceEnvironment(Scene& scene, const std::string& file) {
+  Environment& e = scene.environment;
+  if (file == "none") {
+    e = Environment{};
+    return;
+  }
+  e.map = readEnvironmentMap(file);
+  e.file = file;
+  e.builtin = false;
+  scene.sourceFiles.push_back(file);
+}
+
 void frameCamera(Scene& scene) {
   vec3 lo, hi;
   sceneBounds(scene, lo, hi);

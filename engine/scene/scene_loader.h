@@ -29,6 +29,10 @@ Scene sceneFromObj(const std::string& path);
 // Wraps a glTF file as a scene (its camera, lights and animation as options say).
 Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options = {});
 
+// Replaces the scene's environment by the map in `file` (read as the scene's own; it becomes a
+// watched source file), or removes it when `file` is "none". Throws SceneError naming the file.
+void replaceEnvironment(Scene& scene, const std::string& file);
+
 // Points the camera at the scene's bounding box from the front (+z side, slightly above).
 void frameCamera(Scene& scene);
 

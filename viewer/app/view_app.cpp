@@ -7,6 +7,7 @@
 #include "core/image_io.h"
 #include "core/stats.h"
 #include "eval/metrics.h"
+#include "scene/scene_loader.h"
 #include "trace/preview.h"
 // Complete types for the GL members the constructor and destructor own.
 #include "viewer/app/gl/display_renderer.h"
@@ -55,15 +56,8 @@ namespace {
 // The scene lit as the panel says, sharing base's geometry.
 std::unique_ptr<PreparedScene> relight(const PreparedScene& base, const EnvironmentEdit& edit) {
   Scene scene = base.scene;
+  if (!edit.file.empty()) replaceEnvironment(scene, edit.file);
   Environment& e = scene.environment;
-  if (edit.file == "none") {
-    e = Environment{};
-  } else if (!edit.file.empty()) {
-    e.map = readEnvironmentMap(edit.file);
-    e.file = edit.file;
-    e.builtin = false;
-    scene.sourceFiles.push_back(edit.file);
-  }
   if (e.present()) {
     e.strength = edit.strength;
     e.rotationDegrees = edit.rotationDegrees;
@@ -79,15 +73,15 @@ void ViewerApp::syncEnvironmentFields() {
 }
 
 void ViewerApp::setEnvironment(EnvironmentEdit edit) {
-  // A strength or rotation alone keeps the map an earlier edit chose (it reapplies on reload).
-  if (edit.file.empty() && environmentEdit_) edit.file = environmentEdit_->file;
   std::shared_ptr<const PreparedScene> relit;
   try {
-    relit = relight(*options_.scene, edit);
+    relit = relight(*options_.scene, edit);  // an empty file keeps the map: no read
   } catch (const std::exception& e) {
     message_ = std::string("environment not changed: ") + e.what();
     return;
   }
+  // A strength or rotation alone keeps the map an earlier edit chose, which a reload reads again.
+  if (edit.file.empty() && environmentEdit_) edit.file = environmentEdit_->file;
   environmentEdit_ = edit;
   options_.scene = std::move(relit);
   watchSceneFiles();
