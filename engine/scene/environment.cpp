@@ -19,6 +19,32 @@ int findInterval(const float* cdf, int n, float u) {
   const float* it = std::upper_bound(cdf, cdf + n + 1, u);
   return std::clamp(int(it - cdf) - 1, 0, n - 1);
 }
+// Walker's alias table over weights[0..n) summing to `sum` (> 0), built by Vose's method:
+// each entry keeps its own column with probability `keep` and sends the rest of its 1/n share
+// to `alias`, so that column i is drawn with probability weights[i] / sum. Deterministic.
+void buildAliasTable(const std::vector<double>& weights, double sum, std::vector<uint32_t>& small,
+                     std::vector<uint32_t>& large, EnvironmentLight::AliasEntry* out) {
+  const size_t n = weights.size();
+  std::vector<double> scaled(n);
+  small.clear();
+  large.clear();
+  for (size_t i = n; i-- > 0;) {
+    scaled[i] = weights[i] / sum * double(n);
+    (scaled[i] < 1.0 ? small : large).push_back(uint32_t(i));
+  }
+  while (!small.empty() && !large.empty()) {
+    const uint32_t s = small.back(), l = large.back();
+    small.pop_back();
+    large.pop_back();
+    out[s].keep = float(scaled[s]);
+    out[s].alias = l;
+    scaled[l] -= 1.0 - scaled[s];
+    (scaled[l] < 1.0 ? small : large).push_back(l);
+  }
+  // What is left is 1 up to rounding: it keeps itself.
+  for (uint32_t i : small) out[i].keep = 1.0f, out[i].alias = i;
+  for (uint32_t i : large) out[i].keep = 1.0f, out[i].alias = i;
+}
 }  // namespace
 
 glm::vec2 directionToEquirect(vec3 d) {
@@ -111,10 +137,10 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
       cellLuminance[j * w + i] = 0.75f * rowFiltered[j * w + i] +
                                  0.125f * (rowFiltered[up * w + i] + rowFiltered[down * w + i]);
     }
-  columnCdf_.assign(h * (w + 1), 0.0f);
-  cellPdf_.assign(h * w, 0.0f);
+  cells_.assign(h * w, AliasEntry{});
   std::vector<double> rowSum(h, 0.0);
   std::vector<double> cell(w);
+  std::vector<uint32_t> small, large;
   for (size_t j = 0; j < h; ++j) {
     const double solidAngle =
         2.0 * kPiD / double(w) * (double(cosRowEdge_[j]) - double(cosRowEdge_[j + 1]));
@@ -124,13 +150,7 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
       running += cell[i];
     }
     rowSum[j] = running;
-    float* cdf = &columnCdf_[j * (w + 1)];
-    double acc = 0;
-    for (size_t i = 0; i < w; ++i) {
-      acc += cell[i];
-      cdf[i + 1] = running > 0 ? float(acc / running) : float(i + 1) / float(w);
-    }
-    cdf[w] = 1.0f;
+    if (running > 0) buildAliasTable(cell, running, small, large, &cells_[j * w]);
   }
   double total = 0;
   for (double s : rowSum) total += s;
@@ -144,7 +164,12 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
   rowCdf_[h] = 1.0f;
   if (!(total > 0)) return;
   // A texel's probability over its solid angle: its luminance over the total.
-  for (size_t c = 0; c < h * w; ++c) cellPdf_[c] = float(double(cellLuminance[c]) / total);
+  for (size_t c = 0; c < h * w; ++c) cells_[c].pdf = float(double(cellLuminance[c]) / total);
+  for (size_t j = 0; j < h; ++j)
+    for (size_t i = 0; i < w; ++i) {
+      AliasEntry& e = cells_[j * w + i];
+      e.aliasPdf = cells_[j * w + e.alias].pdf;
+    }
 }
 
 EnvironmentLight EnvironmentLight::constant(vec3 radiance) {
@@ -161,18 +186,10 @@ vec3 EnvironmentLight::toWorld(vec3 d) const {
   return {cosRotation_ * d.x + sinRotation_ * d.z, d.y, -sinRotation_ * d.x + cosRotation_ * d.z};
 }
 
-int EnvironmentLight::cellRow(float cosTheta) const {
-  // Rows run from cos = 1 (top) down to cos = -1; the row whose edges bracket cosTheta.
-  const auto it = std::upper_bound(cosRowEdge_.begin(), cosRowEdge_.end(), cosTheta,
-                                   [](float value, float edge) { return value > edge; });
-  return std::clamp(int(it - cosRowEdge_.begin()) - 1, 0, height_ - 1);
-}
-
-vec3 EnvironmentLight::radiance(vec3 direction) const {
-  const glm::vec2 ut = directionToEquirect(toMap(direction));
+vec3 EnvironmentLight::lookup(float u, float t) const {
   const Image& m = *map_;
   // Bilinear between texel centres: wraps in azimuth, clamps at the poles.
-  const float x = ut.x * float(width_) - 0.5f, y = ut.y * float(height_) - 0.5f;
+  const float x = u * float(width_) - 0.5f, y = t * float(height_) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
   const int x0 = ((int(fx) % width_) + width_) % width_, x1 = (x0 + 1) % width_;
@@ -182,33 +199,67 @@ vec3 EnvironmentLight::radiance(vec3 direction) const {
   return c * strength_;
 }
 
-bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf) const {
+vec3 EnvironmentLight::radiance(vec3 direction, float* pdf) const {
+  const glm::vec2 ut = directionToEquirect(toMap(direction));
+  if (pdf) *pdf = cellPdf(ut);
+  return lookup(ut.x, ut.y);
+}
+
+float EnvironmentLight::cellPdf(glm::vec2 ut) const {
+  if (black()) return 0.0f;
+  // The texel under the coordinates; rows are equal steps of theta, so t finds the row.
+  const int j = std::clamp(int(ut.y * float(height_)), 0, height_ - 1);
+  const int i = std::clamp(int(ut.x * float(width_)), 0, width_ - 1);
+  return cells_[size_t(j) * size_t(width_) + size_t(i)].pdf;
+}
+
+bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf, vec3* radiance) const {
   if (black()) return false;
   const int j = findInterval(rowCdf_.data(), height_, u.y);
   const float r0 = rowCdf_[size_t(j)], r1 = rowCdf_[size_t(j) + 1];
   const float vRemapped = r1 > r0 ? std::clamp((u.y - r0) / (r1 - r0), 0.0f, 1.0f) : 0.5f;
-  const float* cdf = &columnCdf_[size_t(j) * size_t(width_ + 1)];
-  const int i = findInterval(cdf, width_, u.x);
-  const float c0 = cdf[i], c1 = cdf[i + 1];
-  const float uRemapped = c1 > c0 ? std::clamp((u.x - c0) / (c1 - c0), 0.0f, 1.0f) : 0.5f;
-  pdf = cellPdf_[size_t(j) * size_t(width_) + size_t(i)];
+  // The column from the row's alias table; the draw's leftover fraction places the direction
+  // within the texel.
+  const float x = std::clamp(u.x, 0.0f, 1.0f) * float(width_);
+  const int slot = std::min(int(x), width_ - 1);
+  const float f = std::clamp(x - float(slot), 0.0f, 1.0f);
+  const AliasEntry& e = cells_[size_t(j) * size_t(width_) + size_t(slot)];
+  int i = slot;
+  float uRemapped;
+  if (f < e.keep) {
+    uRemapped = f / e.keep;
+    pdf = e.pdf;
+  } else {
+    i = int(e.alias);
+    uRemapped = std::min((f - e.keep) / (1.0f - e.keep), 1.0f);
+    pdf = e.aliasPdf;
+  }
   if (!(pdf > 0)) return false;
   // Uniform in azimuth and in cos theta within the texel.
   const float cosTheta =
       cosRowEdge_[size_t(j)] + vRemapped * (cosRowEdge_[size_t(j) + 1] - cosRowEdge_[size_t(j)]);
   const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
-  const float phi = 2.0f * kPi * ((float(i) + uRemapped) / float(width_) - 0.5f);
+  const float uMap = (float(i) + uRemapped) / float(width_);
+  const float phi = 2.0f * kPi * (uMap - 0.5f);
   direction = toWorld({sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)});
+  if (radiance) *radiance = lookup(uMap, std::acos(std::clamp(cosTheta, -1.0f, 1.0f)) / kPi);
   return true;
 }
 
+void EnvironmentLight::prefetch(glm::vec2 u) const {
+  if (black()) return;
+  const int j = findInterval(rowCdf_.data(), height_, u.y);
+  const int slot = std::min(int(std::clamp(u.x, 0.0f, 1.0f) * float(width_)), width_ - 1);
+  __builtin_prefetch(&cells_[size_t(j) * size_t(width_) + size_t(slot)]);
+  // The bilinear lookup reads the texel's row and one beside it.
+  const int up = std::max(j - 1, 0), down = std::min(j + 1, height_ - 1);
+  __builtin_prefetch(&map_->at(slot, j));
+  __builtin_prefetch(&map_->at(slot, up));
+  __builtin_prefetch(&map_->at(slot, down));
+}
+
 float EnvironmentLight::pdf(vec3 direction) const {
-  if (black()) return 0.0f;
-  const vec3 d = toMap(direction);
-  const int j = cellRow(std::clamp(d.y, -1.0f, 1.0f));
-  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
-  const int i = std::clamp(int(u * float(width_)), 0, width_ - 1);
-  return cellPdf_[size_t(j) * size_t(width_) + size_t(i)];
+  return cellPdf(directionToEquirect(toMap(direction)));
 }
 
 }  // namespace penumbra

@@ -21,12 +21,18 @@
 // sphere, and the pdf is proportional to the radiance wherever a texel and its neighbours
 // agree. Multiple importance sampling with BSDF sampling keeps the estimate unbiased where the
 // two differ.
+// The row is drawn from the marginal by a binary search over its small CDF (u.y, which stays
+// stratified across rows); the texel within the row from the row's alias table (Walker's
+// method, u.x), one lookup instead of a binary search over a row of a large map, whose cache
+// misses dominated the cost. The alias step's leftover fraction places the direction within
+// the texel.
 #pragma once
 
 #include "core/image.h"
 
 #include <glm/vec2.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,19 +71,35 @@ class EnvironmentLight {
   // A constant radiance from every direction (a one-texel map).
   static EnvironmentLight constant(vec3 radiance);
 
-  vec3 radiance(vec3 direction) const;  // unit world direction
+  // The radiance from a unit world direction; with `pdf`, also pdf(direction), sharing the
+  // direction's map coordinates.
+  vec3 radiance(vec3 direction, float* pdf = nullptr) const;
   // A direction drawn with probability proportional to luminance x solid angle; `pdf` is per
-  // unit solid angle. False when the map is black (nothing to sample).
-  bool sample(glm::vec2 u, vec3& direction, float& pdf) const;
+  // unit solid angle; with `radiance`, also the radiance from there. False when the map is
+  // black (nothing to sample).
+  bool sample(glm::vec2 u, vec3& direction, float& pdf, vec3* radiance = nullptr) const;
   float pdf(vec3 direction) const;
+  // Asks the cache for what sample(u) will read (its alias entry and the map's texels there),
+  // so that a caller can hide that memory latency behind other work. Changes nothing.
+  void prefetch(glm::vec2 u) const;
   // The integral of the luminance over the sphere (strength applied): the light's weight.
   double integratedLuminance() const { return integral_; }
   bool black() const { return !(integral_ > 0); }
 
+  // One texel: its column's entry in its row's alias table, and the pdfs of both columns it
+  // may send a draw to, in one 16-byte record so that a draw reads one cache line.
+  struct AliasEntry {
+    float keep = 1.0f;      // the chance that a draw landing on this column stays on it
+    uint32_t alias = 0;     // the column it goes to otherwise
+    float pdf = 0.0f;       // this texel's probability over its solid angle
+    float aliasPdf = 0.0f;  // the same for the alias column's texel
+  };
+
  private:
   vec3 toMap(vec3 world) const;  // undoes the rotation
   vec3 toWorld(vec3 map) const;
-  int cellRow(float cosTheta) const;
+  vec3 lookup(float u, float t) const;  // bilinear, map coordinates, strength applied
+  float cellPdf(glm::vec2 ut) const;    // the pdf of the texel at map coordinates
 
   std::shared_ptr<const Image> map_;
   float strength_ = 1.0f;
@@ -86,8 +108,7 @@ class EnvironmentLight {
   double integral_ = 0;
   std::vector<float> cosRowEdge_;  // height + 1 values: cos theta at each row's top edge
   std::vector<float> rowCdf_;      // height + 1 values, 0 .. 1
-  std::vector<float> columnCdf_;   // height rows of width + 1 values, 0 .. 1
-  std::vector<float> cellPdf_;     // per texel: its probability over its solid angle
+  std::vector<AliasEntry> cells_;  // per texel, row by row
 };
 
 }  // namespace penumbra

@@ -157,12 +157,11 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   const auto& e = lights.emitters[std::min(i, lights.emitters.size() - 1)];
   if (e.punctual == LightSampler::kEnvironment) {
     float pdf = 0;
-    if (!lights.environment->sample(uTri, out.wi, pdf)) return false;
+    if (!lights.environment->sample(uTri, out.wi, pdf, &out.radiance)) return false;
     out.pdf = e.probability * pdf;
     out.distance = INFINITY;
     out.point = reference + out.wi;
     out.normal = -out.wi;
-    out.radiance = lights.environment->radiance(out.wi);
     out.delta = false;
     return out.pdf > 0 && std::isfinite(out.pdf);
   }
@@ -212,13 +211,17 @@ std::shared_ptr<const EnvironmentLight> lightingEnvironment(const Scene& scene) 
   return light && !light->black() ? light : nullptr;
 }
 
-vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction,
-                     bool cameraRay) {
+vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction, bool cameraRay,
+                     float* lightPdf) {
+  if (lightPdf) *lightPdf = 0.0f;
   if (cameraRay) {
     if (scene.transparent) return vec3(0.0f);
     if (scene.environment.present() && scene.background) return *scene.background;
   }
-  return lights.environment ? lights.environment->radiance(direction) : vec3(0.0f);
+  if (!lights.environment) return vec3(0.0f);
+  const vec3 radiance = lights.environment->radiance(direction, lightPdf);
+  if (lightPdf) *lightPdf *= lights.environmentProbability;
+  return radiance;
 }
 
 float environmentPdf(const LightSampler& lights, vec3 direction) {

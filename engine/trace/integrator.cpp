@@ -213,16 +213,24 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   float chainLength = 0;
   if (features) *features = PathFeatures{};
 
+  const EnvironmentLight* environment = prepared.lights.environment.get();
   for (int depth = 0;; ++depth) {
+    // The environment's sampling tables are large and read at random: ask for what the next
+    // event estimate at this ray's hit will read (its light point is the dimension after the
+    // light choice) while Embree traces the ray.
+    glm::vec2 uNextLightPoint;
+    if (environment && dimensions.peek2D(1, uNextLightPoint))
+      environment->prefetch(uNextLightPoint);
     Hit hit;
     ++counters.rays;
     if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
       // The environment, weighted against its own light sampling (a camera ray sees the
       // backdrop, which nothing light-samples).
-      const vec3 seen = escapedRadiance(scene, prepared.lights, ray.direction, depth == 0);
-      float weight = 1.0f;
-      if (depth > 0 && !specularBounce && prepared.lights.environment)
-        weight = powerHeuristic(previousBsdfPdf, environmentPdf(prepared.lights, ray.direction));
+      const bool weighted = depth > 0 && !specularBounce && prepared.lights.environment;
+      float lightPdf = 0;
+      const vec3 seen = escapedRadiance(scene, prepared.lights, ray.direction, depth == 0,
+                                        weighted ? &lightPdf : nullptr);
+      const float weight = weighted ? powerHeuristic(previousBsdfPdf, lightPdf) : 1.0f;
       radiance += throughput * seen * weight;
       if (features && cameraChain) features->emission += throughput * seen * weight;
       break;

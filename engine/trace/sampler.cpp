@@ -100,4 +100,12 @@ glm::vec2 PixelSampler::next2D() {
   return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
 }
 
+bool PixelSampler::peek2D(uint32_t ahead, glm::vec2& value) {
+  if (kind_ == SamplerKind::Independent) return false;
+  const DimensionKeys& k = keys(dimension_ + ahead);
+  const uint32_t index = shuffledIndex(k);
+  value = {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
+  return true;
+}
+
 }  // namespace penumbra

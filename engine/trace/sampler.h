@@ -116,6 +116,10 @@ class PixelSampler {
   // Leaves `count` dimensions unused, so the next ones keep their index in every path
   // (LD dimensions must line up across the samples of a pixel to stay stratified).
   void skip(uint32_t count) { dimension_ += count; }
+  // The value next2D would return `ahead` dimensions from now, without drawing it; false for
+  // the independent sampler, whose values exist only once drawn. Lets a caller prefetch what
+  // a later draw will read.
+  bool peek2D(uint32_t ahead, glm::vec2& value);
 
   SamplerKind kind() const { return kind_; }
   uint32_t setSize() const { return setSize_; }
