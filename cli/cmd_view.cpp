@@ -164,6 +164,9 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
   nlohmann::json rss = nlohmann::json::array();
   for (const auto& [t, kib] : window.rss) rss.push_back({t, kib});
   j["rss_kib"] = rss;  // [seconds after opening, VmRSS KiB], twice a second
+  nlohmann::json marks = nlohmann::json::object();
+  for (const auto& [name, t] : window.marks) marks[name] = t;
+  j["marks"] = marks;  // the script's marks, seconds after opening
   writeJson(path, j);
 }
 

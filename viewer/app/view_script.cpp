@@ -111,6 +111,9 @@ InputScript InputScript::parse(const std::string& text, const std::string& name)
         c.numbers.push_back(60.0);
       else
         numbers(0, 1);
+    } else if (c.verb == "mark") {
+      if (args.size() != 1) fail("expected a name");
+      c.text = args[0];
     } else if (c.verb == "touch") {
       if (args.size() != 1) fail("expected a path");
       if (!std::filesystem::is_regular_file(args[0])) fail("'" + args[0] + "' is not a file");
@@ -197,6 +200,8 @@ bool InputScript::step(double now, ScriptHost& host) {
       std::filesystem::last_write_time(c.text, std::filesystem::file_time_type::clock::now(), ec);
       if (ec)
         std::fprintf(stderr, "penumbra view: touch %s: %s\n", c.text.c_str(), ec.message().c_str());
+    } else if (c.verb == "mark") {
+      host.mark(c.text);
     } else if (c.verb == "region") {
       host.region(int(c.numbers[0]), int(c.numbers[1]), int(c.numbers[2]), int(c.numbers[3]));
     } else if (c.verb == "quit") {

@@ -20,6 +20,8 @@ struct WindowStats {
   double longestBusy = 0, longestBusyAt = 0;
   // Resident memory (VmRSS, KiB) sampled twice a second: (seconds after opening, KiB).
   std::vector<std::pair<double, long long>> rss;
+  // The script's marks: (name, seconds after opening).
+  std::vector<std::pair<std::string, double>> marks;
 };
 
 // The shortest time between two frames (seconds). With the renderer at work, a frame costs it

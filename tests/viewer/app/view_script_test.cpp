@@ -33,6 +33,7 @@ struct Recorder final : ScriptHost {
   void iconify(bool m) override { events.push_back(m ? "iconify" : "restore"); }
   void screenshot(const std::string& p) override { events.push_back("screenshot " + p); }
   void saveImage(const std::string& p) override { events.push_back("save " + p); }
+  void mark(const std::string& name) override { events.push_back("mark " + name); }
   void region(int x, int y, int w, int h) override {
     events.push_back("region " + std::to_string(x) + " " + std::to_string(y) + " " +
                      std::to_string(w) + " " + std::to_string(h));
@@ -73,12 +74,14 @@ TEST(ViewScript, SavesTheShownImageAndTakesScreenshots) {
 }
 
 TEST(ViewScript, SetsAndClearsTheRenderRegion) {
-  InputScript s = InputScript::parse("region 10 20 30 40\nregion 0 0 0 0\n", "t");
+  InputScript s = InputScript::parse("region 10 20 30 40\nregion 0 0 0 0\nmark warm\n", "t");
   Recorder r;
   EXPECT_FALSE(s.step(0.0, r));
-  ASSERT_EQ(r.events.size(), 2u);
+  ASSERT_EQ(r.events.size(), 3u);
   EXPECT_EQ(r.events[0], "region 10 20 30 40");
   EXPECT_EQ(r.events[1], "region 0 0 0 0");
+  EXPECT_EQ(r.events[2], "mark warm");
+  EXPECT_THROW(InputScript::parse("mark\n", "t"), ScriptError);
   EXPECT_THROW(InputScript::parse("region 1 2 3\n", "t"), ScriptError);
   EXPECT_THROW(InputScript::parse("region 1 2 -3 4\n", "t"), ScriptError);
   EXPECT_THROW(InputScript::parse("region 1 2 x 4\n", "t"), ScriptError);
