@@ -68,8 +68,12 @@ for phase, goal in (("idle", 0.85), ("drag", 0.6)):
     for pacing in ("off", "on"):
         r = json.load(open(os.path.join(w, "%s_%s.json" % (phase, pacing))))
         rate = r["trace_spp_per_second"]
-        print("%-17s %-6s %11.3f %9.2f %8d %9.1f ms %9.1f   (>= %.2f)" %
-              ("left alone" if phase == "idle" else "panning (drag)", pacing, rate, rate / batch,
+        # No round shown: less than one spp over the whole run.
+        shown = ("%11.3f %9.2f" % (rate, rate / batch) if rate > 0 else
+                 "%11s %9s" % ("< %.3f" % (1 / r["wall_seconds"]),
+                               "< %.2f" % (1 / r["wall_seconds"] / batch)))
+        print("%-17s %-6s %s %8d %9.1f ms %9.1f   (>= %.2f)" %
+              ("left alone" if phase == "idle" else "panning (drag)", pacing, shown,
                r["frames"], r["mean_frame_ms"], r["wall_seconds"], goal))
 PY
   exit 0
