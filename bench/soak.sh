@@ -8,16 +8,20 @@
 #   - resident memory stays flat after warm-up: its peak after the warm-up (a full picture, the
 #     first tenth of the events, a full picture again: the script's mark "warm") is at most
 #     MAX_GROWTH % above its peak up to there;
+#   - with --max-peak R: its peak over the whole run is at most R times its peak up to the
+#     first full picture, before any event (the script's mark "start"): replaced methods are
+#     freed at once, never piled up over a drag (off by default: a reload holds two scenes);
 #   - no stall: the UI thread never went more than MAX_STALL ms without taking events.
 # Usage: bench/soak.sh [SCENE] [--size WxH] [--moves 300] [--reloads 30] [--regions 30]
-#          [--method bp] [--max-growth 5] [--max-stall 1000] [--reload-wait 1] [--out DIR]
+#          [--method bp] [--max-growth 5] [--max-stall 1000] [--max-peak 0] [--reload-wait 1]
+#          [--out DIR]
 #          [--penumbra build/penumbra]
 #        bench/soak.sh --asset   (the asset scene at 1280x720, scripts/make_asset_scene.sh)
 # Exits 0 on PASS, 1 on FAIL.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 scene=$root/scenes/cornell.json size=256x256 moves=300 reloads=30 regions=30 method=bp
-growth=5 stall=1000 reload_wait=1 out="" penumbra=$root/build/penumbra
+growth=5 stall=1000 reload_wait=1 out="" penumbra=$root/build/penumbra peak=0
 while [ $# -gt 0 ]; do
   case $1 in
     --asset) scene=$root/build/bench/asset_scene/scene.json size=1280x720 reload_wait=4; shift ;;
@@ -28,6 +32,7 @@ while [ $# -gt 0 ]; do
     --method) method=$2; shift 2 ;;
     --max-growth) growth=$2; shift 2 ;;
     --max-stall) stall=$2; shift 2 ;;
+    --max-peak) peak=$2; shift 2 ;;
     --reload-wait) reload_wait=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --penumbra) penumbra=$2; shift 2 ;;
@@ -91,7 +96,7 @@ while a < len(events) or b < len(other):  # the reloads and regions spread among
         seq.append(other[b])
         b += 1
 warm = max(1, len(seq) // 10)
-lines = ["wait-round 300", "wait 1"]
+lines = ["wait-round 300", "wait 1", "mark start"]
 for i, step in enumerate(seq):
     lines += step + ["wait 0.05"]
     if i + 1 == warm:
@@ -105,9 +110,10 @@ xvfb-run -a -s "-screen 0 1920x1080x24" "$penumbra" view "$copy" --size "$size" 
 status=$?
 end=$(date +%s.%N)
 python3 - "$out/report.json" "$status" "$moves" "$reloads" "$regions" "$growth" "$stall" \
-  "$scene" "$size" "$method" "$start" "$end" <<'PY'
+  "$scene" "$size" "$method" "$start" "$end" "$peak" <<'PY'
 import json, os, sys
-path, status, moves, reloads, regions, growth, stall, scene, size, method, t0, t1 = sys.argv[1:]
+path, status, moves, reloads, regions, growth, stall, scene, size, method, t0, t1, peak = sys.argv[1:]
+peak = float(peak)
 status, moves, reloads, regions = int(status), int(moves), int(reloads), int(regions)
 growth, stall = float(growth), float(stall)
 print("soak: %s at %s, %s: %d camera moves, %d reloads, %d region changes, %.0f s" %
@@ -135,6 +141,13 @@ print("restarts %d, reloads %d (%d asked), frames %d, mean frame %.1f ms" %
 print("resident memory: peak in the warm-up (to %.0f s) %.0f MiB, peak after it %.0f MiB, end "
       "%.0f MiB: growth %+.1f %% (goal <= %g %%)" %
       (warmAt, first / 1024, last / 1024, after[-1] / 1024, grew, growth))
+startAt = r.get("marks", {}).get("start", 0)
+still = max([kib for t, kib in r["rss_kib"] if kib > 0 and t <= startAt] or [1])
+ratio = max(first, last) / still
+print("peak resident memory over the peak up to the first full picture, before any event: "
+      "%.2fx%s" % (ratio, " (goal <= %g)" % peak if peak > 0 else ""))
+if peak > 0 and ratio > peak:
+    fails.append("resident memory peaked at %.2fx the first picture's" % ratio)
 print("longest stall (UI thread busy without taking events): %.0f ms at %.1f s (goal <= %g ms)" %
       (r["longest_busy_ms"], r["longest_busy_at_seconds"], stall))
 if r["reloads"] < reloads:
