@@ -104,8 +104,10 @@ for i, step in enumerate(seq):
 lines += ["wait-round 300", "wait 1", "quit"]
 open(path, "w").write("\n".join(lines) + "\n")
 PY
+# PENUMBRA_VIEW_ENV: variables for the viewer alone (a sanitizer build's), not for Xvfb.
+read -r -a view_env <<<"${PENUMBRA_VIEW_ENV:-}"
 start=$(date +%s.%N)
-xvfb-run -a -s "-screen 0 1920x1080x24" "$penumbra" view "$copy" --size "$size" --method "$method" \
+xvfb-run -a -s "-screen 0 1920x1080x24" env "${view_env[@]}" "$penumbra" view "$copy" --size "$size" --method "$method" \
   --script "$out/script.txt" --report "$out/report.json" >"$out/log.txt" 2>&1
 status=$?
 end=$(date +%s.%N)
