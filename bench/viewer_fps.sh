@@ -13,19 +13,71 @@
 # Prints, for each: the time from opening to the first full picture (every pixel sampled,
 # reconstructed), the window's trace speed against a batch render's (kept samples per second),
 # and the shown picture's relMSE against a 64-spp LD render at 0.5, 1, 2 and 4 s.
+#
+# With --trace-speed: the asset scene at 1280x720 with LD, the window's trace speed (kept spp
+# over the method's own seconds at its newest picture shown, the report's trace_spp_per_second)
+# against a batch render's (spp / time_seconds, measured the same way), left alone for SECONDS
+# (default 30) and while the user pans the image (a scripted middle-button drag, back and forth,
+# DRAGS times, default 40; rendering goes on under it), each with the window's frame pacing and
+# without it
+# (PENUMBRA_FRAME_PACING=off: any change drawn at up to 60 fps, as before the pacing), in one run.
 # Usage: bench/viewer_fps.sh [SCENE] [--size 512x512] [--seconds 10]
 #        bench/viewer_fps.sh --asset
+#        bench/viewer_fps.sh --trace-speed [--seconds 30] [--drags 40]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=scenes/balls.json size=512x512 seconds=10 asset=0
+scene=scenes/balls.json size=512x512 seconds=10 asset=0 speed=0 drags=40
 while [ $# -gt 0 ]; do
   case $1 in
+    --trace-speed) speed=1; seconds=30; shift ;;
+    --drags) drags=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --asset) asset=1; shift ;;
     *) scene=$1; shift ;;
   esac
 done
+if [ $speed -eq 1 ]; then
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+  scene=build/bench/asset_scene/scene.json size=1280x720
+  [ -f "$scene" ] || scripts/make_asset_scene.sh >/dev/null
+  build/penumbra render "$scene" --method ld --spp 4 --size $size -q -o "$work/batch.exr" \
+    --stats "$work/batch.json" 2>/dev/null
+  printf 'wait %s\nquit\n' "$seconds" >"$work/idle.txt"
+  for i in $(seq "$drags"); do
+    printf 'drag middle 700 400 900 450\ndrag middle 900 450 700 400\n'
+  done >"$work/drag.txt"
+  echo quit >>"$work/drag.txt"
+  for pacing in off on; do
+    for phase in idle drag; do
+      PENUMBRA_FRAME_PACING=$pacing xvfb-run -a -s "-screen 0 1640x800x24" build/penumbra view \
+        "$scene" --size $size --method ld --script "$work/$phase.txt" \
+        --report "$work/${phase}_$pacing.json" >/dev/null 2>&1
+    done
+  done
+  python3 - "$work" "$scene" "$size" <<'PY'
+import json, os, sys
+w = sys.argv[1]
+b = json.load(open(os.path.join(w, "batch.json")))
+batch = b["spp"] / max(b["time_seconds"], 1e-9)
+print("%s at %s, LD: batch render %.3f spp/s (%d spp in %.1f s)" %
+      (sys.argv[2], sys.argv[3], batch, b["spp"], b["time_seconds"]))
+print("window            pacing   trace spp/s   x batch   frames   mean frame   seconds   (goal)")
+for phase, goal in (("idle", 0.85), ("drag", 0.6)):
+    for pacing in ("off", "on"):
+        r = json.load(open(os.path.join(w, "%s_%s.json" % (phase, pacing))))
+        rate = r["trace_spp_per_second"]
+        # No round shown: less than one spp over the whole run.
+        shown = ("%11.3f %9.2f" % (rate, rate / batch) if rate > 0 else
+                 "%11s %9s" % ("< %.3f" % (1 / r["wall_seconds"]),
+                               "< %.2f" % (1 / r["wall_seconds"] / batch)))
+        print("%-17s %-6s %s %8d %9.1f ms %9.1f   (>= %.2f)" %
+              ("left alone" if phase == "idle" else "panning (drag)", pacing, shown,
+               r["frames"], r["mean_frame_ms"], r["wall_seconds"], goal))
+PY
+  exit 0
+fi
 if [ $asset -eq 1 ]; then
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT

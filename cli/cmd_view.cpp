@@ -121,7 +121,7 @@ std::string defaultScreenshot(const ViewFlags& f) {
 }
 
 void writeReport(const std::string& path, const ViewerApp& app, const std::string& backend,
-                 double wallSeconds) {
+                 double wallSeconds, const WindowStats& window) {
   if (path.empty()) return;
   nlohmann::json j;
   j["wall_seconds"] = wallSeconds;
@@ -155,6 +155,18 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
       snap ? double(snap->keptSamples) / std::max(1.0, double(snap->width) * snap->height) : 0.0;
   j["state"] = toString(const_cast<ViewerApp&>(app).session().state());
   j["message"] = app.lastMessage();
+  // The method's kept spp over its own seconds at its newest snapshot shown (the last
+  // restart's), to compare with a batch render's spp / time_seconds.
+  j["trace_spp_per_second"] = app.traceSpeed();
+  j["reloads"] = app.reloads();
+  j["longest_busy_ms"] = window.longestBusy * 1e3;
+  j["longest_busy_at_seconds"] = window.longestBusyAt;
+  nlohmann::json rss = nlohmann::json::array();
+  for (const auto& [t, kib] : window.rss) rss.push_back({t, kib});
+  j["rss_kib"] = rss;  // [seconds after opening, VmRSS KiB], twice a second
+  nlohmann::json marks = nlohmann::json::object();
+  for (const auto& [name, t] : window.marks) marks[name] = t;
+  j["marks"] = marks;  // the script's marks, seconds after opening
   writeJson(path, j);
 }
 
@@ -206,8 +218,8 @@ void openWindow(const ViewFlags& f) {
   request.title = "Penumbra - " + f.scene.scenePath;
   request.script = f.script;
   request.continuous = f.continuous;
-  request.closed = [&f](const ViewerApp& app, double seconds) {
-    writeReport(f.report, app, "glfw", seconds);
+  request.closed = [&f](const ViewerApp& app, double seconds, const WindowStats& window) {
+    writeReport(f.report, app, "glfw", seconds, window);
   };
   runWindow(makeOptions(f), request);
 }

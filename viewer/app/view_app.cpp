@@ -73,6 +73,7 @@ void ViewerApp::syncEnvironmentFields() {
 }
 
 void ViewerApp::setEnvironment(EnvironmentEdit edit) {
+  discardReload();  // it lit the scene the old way: read again with this edit
   std::shared_ptr<const PreparedScene> relit;
   try {
     relit = relight(*options_.scene, edit);  // an empty file keeps the map: no read
@@ -111,15 +112,39 @@ std::vector<ViewerApp::FileStamp> ViewerApp::stampFiles() const {
 }
 
 bool ViewerApp::checkSceneFiles() {
+  if (!reload_.valid() && !startReload()) return false;
+  reload_.wait();
+  return finishReload();
+}
+
+bool ViewerApp::startReload() {
   lastFileCheck_ = Clock::now();
-  if (watched_.empty()) return false;
+  if (watched_.empty() || reload_.valid()) return false;
   std::vector<FileStamp> now = stampFiles();
   if (now == stamps_) return false;
   stamps_ = std::move(now);  // a file that fails stays failed until it changes again
+  // Read on a thread of its own: a large scene takes seconds (its meshes, textures and BVH),
+  // and the window keeps drawing and taking input meanwhile (the last good scene renders on).
+  reload_ = std::async(std::launch::async, [load = options_.loadScene, path = options_.scenePath,
+                                            edit = environmentEdit_] {
+    std::shared_ptr<const PreparedScene> prepared = prepareScene(load(path));
+    if (edit) prepared = relight(*prepared, *edit);
+    return prepared;
+  });
+  return true;
+}
+
+void ViewerApp::discardReload() {
+  if (!reload_.valid()) return;
+  reload_.wait();
+  reload_ = {};
+  stamps_.clear();  // read again, with what changed since, at the next check
+}
+
+bool ViewerApp::finishReload() {
   std::shared_ptr<const PreparedScene> prepared;
   try {
-    prepared = prepareScene(options_.loadScene(options_.scenePath));
-    if (environmentEdit_) prepared = relight(*prepared, *environmentEdit_);
+    prepared = reload_.get();  // leaves reload_ empty
   } catch (const std::exception& e) {
     message_ = std::string("reload failed, still showing the last good scene: ") + e.what();
     return false;
@@ -138,11 +163,13 @@ bool ViewerApp::checkSceneFiles() {
   if (cameraChanged) view_.camera = options_.scene->scene.camera;
   watchSceneFiles();  // the new scene may refer to other files
   message_ = "reloaded " + options_.scene->scene.sourcePath;
+  ++reloads_;
   restart();
   return true;
 }
 
 bool ViewerApp::openScene(const std::string& path) {
+  discardReload();  // of the scene being replaced
   if (!options_.loadScene) {
     message_ = "cannot open scenes here";
     return false;
@@ -167,6 +194,7 @@ bool ViewerApp::openScene(const std::string& path) {
 }
 
 ViewerApp::~ViewerApp() {
+  if (reload_.valid()) reload_.wait();
   session_.reset();  // joins the worker before the views it renders go away
   releaseGl();
 }
@@ -196,6 +224,7 @@ void ViewerApp::restart() {
   ++restarts_;
   firstPreviewSeconds_ = -1;
   fullPictureShown_ = false;
+  traceLast_ = {-1, 0};
   mseHistory_.clear();
   if (options_.preview) {
     // Drawn here, on the UI thread, so the new view shows within a frame whatever the
@@ -221,8 +250,12 @@ void ViewerApp::setCamera(const Camera& camera) {
 
 bool ViewerApp::update() {
   bool changed = false;
-  if (!watched_.empty() && secondsBetween(lastFileCheck_, Clock::now()) >= 0.5)
-    changed = checkSceneFiles();
+  if (reload_.valid()) {
+    if (reload_.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+      changed = finishReload();
+  } else if (!watched_.empty() && secondsBetween(lastFileCheck_, Clock::now()) >= 0.5) {
+    startReload();
+  }
   const uint64_t version = session_->version();
   uint64_t generation = 0;
   std::shared_ptr<const Snapshot> latest;
@@ -230,6 +263,11 @@ bool ViewerApp::update() {
   // A snapshot of the method before the last restart is an old view: not shown.
   if (version != seenVersion_ && generation == generation_) {
     seenVersion_ = version;
+    if (latest && latest->source == SnapshotSource::Method) {
+      const double spp = double(latest->keptSamples) /
+                         std::max(1.0, double(latest->width) * double(latest->height));
+      traceLast_ = {latest->seconds, spp};
+    }
     snapshot_ =
         latest && view_.region.active() ? placeInRegion(std::move(latest)) : std::move(latest);
     // The first round after a restart, when there was no preview.
@@ -267,6 +305,10 @@ bool ViewerApp::update() {
     changed = true;
   }
   return changed || texturesStale_;
+}
+
+double ViewerApp::traceSpeed() const {
+  return traceLast_.first > 0 ? traceLast_.second / traceLast_.first : 0.0;
 }
 
 std::string ViewerApp::saveImage(const std::string& path) const {

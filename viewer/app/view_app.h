@@ -11,6 +11,7 @@
 #include "viewer/app/view_state.h"
 
 #include <chrono>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -52,7 +53,9 @@ class ViewerApp {
   // time or size), reads the scene again (ViewOptions::loadScene) and restarts; the camera
   // stays unless the file's own camera changed. A file that fails to load leaves the last
   // good scene rendering and its error in the panel's message. Returns true when it
-  // reloaded. update() calls it at most twice a second.
+  // reloaded. This waits for the read; update() instead looks at most twice a second and reads
+  // on a thread of its own, taking the new scene in once it is ready, so the window never
+  // stalls on a large scene.
   bool checkSceneFiles();
   // Opens another scene file (dropped on the window, or typed in the panel) with its own
   // camera; on failure the current scene stays and the error is the message. True if opened.
@@ -96,6 +99,11 @@ class ViewerApp {
   const std::vector<double>& firstPictureTimes() const { return firstPictureTimes_; }
   // Restart to the first picture of the method itself (every pixel sampled), per restart.
   const std::vector<double>& firstFullPictureTimes() const { return firstFullPictureTimes_; }
+  // The method's trace speed since the last (re)start, measured as a batch render's is: kept
+  // samples per pixel over the method's own wall time, at its newest snapshot shown (so the
+  // lag until a snapshot is shown is left out); 0 until one has been shown.
+  double traceSpeed() const;
+  int reloads() const { return reloads_; }  // live reloads that loaded (checkSceneFiles)
   const FrameStats& frameStats() const { return frameStats_; }
   // The window times whole frames (draw and swap) itself; drawFrame times only its own work.
   void recordFrame(double seconds) { frameStats_.add(seconds); }
@@ -115,6 +123,10 @@ class ViewerApp {
   using FileStamp = std::pair<long long, long long>;
   std::vector<FileStamp> stampFiles() const;
   void watchSceneFiles();
+  bool startReload();    // a watched file changed: read the scene again on a thread
+  bool finishReload();   // the read is done: take it in and restart, or keep the last good one
+  void discardReload();  // wait for a read in flight and drop it; the next check reads again
+  std::future<std::shared_ptr<const PreparedScene>> reload_;
   // A snapshot of the region's view placed in the full image over the dimmed backdrop.
   std::shared_ptr<const Snapshot> placeInRegion(std::shared_ptr<const Snapshot> snapshot) const;
   void inspectInSession(int x, int y);  // image pixel -> the running view's pixel
@@ -145,6 +157,9 @@ class ViewerApp {
   std::vector<double> firstPictureTimes_;
   bool fullPictureShown_ = false;  // since the last restart
   std::vector<double> firstFullPictureTimes_;
+  // The method's (seconds, kept spp) at its newest snapshot shown since the restart.
+  std::pair<double, double> traceLast_{-1, 0};
+  int reloads_ = 0;
 
   // View and input.
   ViewState view_;

@@ -2,6 +2,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -101,11 +103,21 @@ InputScript InputScript::parse(const std::string& text, const std::string& name)
     } else if (c.verb == "resize") {
       numbers(0, 2);
       if (c.numbers[0] < 0 || c.numbers[1] < 0) fail("sizes must be >= 0");
+    } else if (c.verb == "region") {
+      numbers(0, 4);
+      if (c.numbers[2] < 0 || c.numbers[3] < 0) fail("sizes must be >= 0");
     } else if (c.verb == "wait-round") {
       if (args.empty())
         c.numbers.push_back(60.0);
       else
         numbers(0, 1);
+    } else if (c.verb == "mark") {
+      if (args.size() != 1) fail("expected a name");
+      c.text = args[0];
+    } else if (c.verb == "touch") {
+      if (args.size() != 1) fail("expected a path");
+      if (!std::filesystem::is_regular_file(args[0])) fail("'" + args[0] + "' is not a file");
+      c.text = args[0];
     } else if (c.verb == "screenshot" || c.verb == "save") {
       if (args.size() != 1) fail("expected a path");
       c.text = args[0];
@@ -183,6 +195,15 @@ bool InputScript::step(double now, ScriptHost& host) {
       host.screenshot(c.text);
     } else if (c.verb == "save") {
       host.saveImage(c.text);
+    } else if (c.verb == "touch") {
+      std::error_code ec;
+      std::filesystem::last_write_time(c.text, std::filesystem::file_time_type::clock::now(), ec);
+      if (ec)
+        std::fprintf(stderr, "penumbra view: touch %s: %s\n", c.text.c_str(), ec.message().c_str());
+    } else if (c.verb == "mark") {
+      host.mark(c.text);
+    } else if (c.verb == "region") {
+      host.region(int(c.numbers[0]), int(c.numbers[1]), int(c.numbers[2]), int(c.numbers[3]));
     } else if (c.verb == "quit") {
       host.quit();
       return false;

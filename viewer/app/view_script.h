@@ -12,6 +12,12 @@
 //   wait-round [SECONDS]         wait until a round of the current view has landed (at most
 //                                SECONDS, default 60): makes a script independent of speed
 //   screenshot PATH              write the next frame to PATH
+//   region X Y W H               render only that window of the image (image pixels), as a
+//                                ctrl + left drag does; region 0 0 0 0 renders everything
+//   touch PATH                   set PATH's modification time to now, as an editor saving it
+//                                does (live reload picks it up within half a second)
+//   mark NAME                    note the time under NAME in the window's --report (e.g.
+//                                where a soak test's warm-up ends)
 //   save PATH                    write the shown image (linear .exr/.pfm, or .png) to PATH, as
 //                                the panel's save does: for measuring the picture over time
 //   quit                         close the viewer
@@ -40,6 +46,8 @@ class ScriptHost {
   virtual void iconify(bool minimise) = 0;
   virtual void screenshot(const std::string& path) = 0;
   virtual void saveImage(const std::string& path) = 0;
+  virtual void region(int x, int y, int width, int height) = 0;  // 0 x 0: the whole image
+  virtual void mark(const std::string& name) = 0;
   virtual bool roundShown() = 0;  // a round of the current view is on screen
   virtual void quit() = 0;
 };

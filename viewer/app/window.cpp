@@ -13,8 +13,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <optional>
 #include <stdexcept>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace penumbra {
 
@@ -28,6 +32,8 @@ struct Window final : ScriptHost {
   bool iconified = false;
   bool dirty = true;
   Clock::time_point lastInput = Clock::now();
+  Clock::time_point opened = Clock::now();
+  WindowStats* stats = nullptr;  // where marks go
 
   // GLFW reports the cursor in window coordinates; the app works in framebuffer pixels.
   double scaleX() const {
@@ -75,6 +81,14 @@ struct Window final : ScriptHost {
   void saveImage(const std::string& path) override {
     const std::string message = app->saveImage(path);
     std::fprintf(stderr, "penumbra view: %s\n", message.c_str());
+  }
+  void region(int x, int y, int width, int height) override {
+    touched();
+    app->setRegion(RenderRegion{x, y, width, height});
+  }
+  void mark(const std::string& name) override {
+    if (stats)
+      stats->marks.push_back({name, std::chrono::duration<double>(Clock::now() - opened).count()});
   }
   void quit() override { glfwSetWindowShouldClose(window, GLFW_TRUE); }
   bool roundShown() override { return app->roundShown(); }
@@ -133,9 +147,108 @@ void installCallbacks(GLFWwindow* window) {
   glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { windowOf(w)->dirty = true; });
 }
 
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// Draws a frame of the window's framebuffer and swaps; returns its cost in seconds.
+double drawWindowFrame(Window& host, double dt) {
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(host.window, &fw, &fh);
+  const auto frameStart = Clock::now();
+  ImGui_ImplGlfw_NewFrame();
+  host.app->drawFrame(fw, fh, true, dt);
+  const auto drawn = Clock::now();
+  static const bool debugFrames = std::getenv("PENUMBRA_DEBUG_FRAMES") != nullptr;
+  if (debugFrames) glFinish();
+  const auto finished = Clock::now();
+  glfwSwapBuffers(host.window);
+  const auto swapped = Clock::now();
+  if (debugFrames)
+    std::fprintf(stderr, "draw %.1f finish %.1f swap %.1f ms\n", seconds(drawn - frameStart) * 1e3,
+                 seconds(finished - drawn) * 1e3, seconds(swapped - finished) * 1e3);
+  const double cost = seconds(swapped - frameStart);
+  host.app->recordFrame(cost);
+  host.dirty = false;
+  return cost;
+}
+
+// The window's loop: events, the script, new pictures, and frames drawn only when something
+// changed, paced by framePacing; the UI thread sleeps in glfwWaitEventsTimeout between them.
+void frameLoop(Window& host, std::optional<InputScript>& script, const WindowRequest& request,
+               Clock::time_point opened, WindowStats& stats) {
+  ViewerApp& app = *host.app;
+  const auto start = Clock::now();
+  auto last = start, lastFrame = Clock::time_point{}, lastRss = Clock::time_point{};
+  double frameCost = 0;
+  bool scriptRunning = script.has_value();
+  // PENUMBRA_FRAME_PACING=off: the pacing before it (any change drawn at up to 60 frames a
+  // second, and every frame for half a second after input), for bench/viewer_fps.sh to compare.
+  const char* pacingVariable = std::getenv("PENUMBRA_FRAME_PACING");
+  const bool unpaced = pacingVariable && std::string(pacingVariable) == "off";
+  while (!glfwWindowShouldClose(host.window) && !app.quitRequested()) {
+    const auto now = Clock::now();
+    const double dt = seconds(now - last);
+    last = now;
+    if (seconds(now - lastRss) >= 0.5) {
+      stats.rss.push_back({seconds(now - opened), residentKiB()});
+      lastRss = now;
+    }
+    if (scriptRunning) scriptRunning = script->step(seconds(now - start), host);
+    if (script && !scriptRunning) break;
+    app.fly(dt);
+    if (app.update()) host.dirty = true;
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(host.window, &fw, &fh);
+    // Hover feedback in the panel needs frames for a moment after input.
+    const bool interacting = seconds(now - host.lastInput) < (unpaced ? 0.5 : 0.3);
+    const bool rendering = app.session().state() == RenderSession::State::Running;
+    const double pacing =
+        request.continuous || unpaced ? 1.0 / 60 : framePacing(rendering, interacting, frameCost);
+    const bool wanted =
+        !host.iconified && fw > 0 && fh > 0 && (host.dirty || interacting || request.continuous);
+    const double sinceFrame = seconds(now - lastFrame);
+    if (wanted && sinceFrame >= pacing) {
+      frameCost = drawWindowFrame(host, dt);
+      lastFrame = Clock::now();
+    }
+    // Sleep until the next frame is due, or a while to look for a new picture and the script's
+    // next step; events wake the loop early.
+    const double busy = seconds(Clock::now() - now);
+    if (busy > stats.longestBusy) {
+      stats.longestBusy = busy;
+      stats.longestBusyAt = seconds(now - opened);
+    }
+    double timeout = scriptRunning || rendering ? 1.0 / 30 : 0.1;
+    if (wanted) timeout = std::max(0.0, pacing - seconds(Clock::now() - lastFrame));
+    if (request.continuous || unpaced) timeout = std::max(0.0, 1.0 / 60 - busy);
+    glfwWaitEventsTimeout(timeout);
+  }
+}
+
 }  // namespace
 
+double framePacing(bool rendering, bool interacting, double lastFrameSeconds) {
+  if (!rendering) return 1.0 / 60;
+  // A slow frame (the first, compiling shaders) must not hold input back for long.
+  const double spaced = 3.0 * std::min(lastFrameSeconds, 0.1);
+  return interacting ? std::clamp(spaced, 1.0 / 30, 0.2) : std::max(spaced, 0.25);
+}
+
+long long residentKiB() {
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::atoll(line.c_str() + 6);
+  return -1;
+}
+
 void runWindow(ViewOptions options, const WindowRequest& request) {
+#if defined(__GLIBC__)
+  // Blocks of 1 MiB and more (a method's per-pixel planes, snapshots' images, a scene's
+  // buffers) come from the system and go back to it when freed. Left alone, glibc raises this
+  // threshold to the largest block freed so far (up to 32 MiB), after which such blocks live in
+  // its heap arenas, and what a replaced method or a reloaded scene frees stays resident there:
+  // the asset scene's soak (bench/soak.sh --asset) grew 13 % after warm-up that way.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   std::optional<InputScript> script;
   if (!request.script.empty()) script = InputScript::load(request.script);
   options.background = true;  // the UI thread keeps its frame rate
@@ -172,8 +285,11 @@ void runWindow(ViewOptions options, const WindowRequest& request) {
   std::fprintf(stderr, "penumbra view: window %dx%d, %s\n", width, height, gl.c_str());
 
   const auto opened = Clock::now();
+  WindowStats windowStats;
   Window host;
   host.window = window;
+  host.opened = opened;
+  host.stats = &windowStats;
   ViewerApp app(std::move(options));
   host.app = &app;
   app.setRecordFrameTimes(false);
@@ -186,43 +302,7 @@ void runWindow(ViewOptions options, const WindowRequest& request) {
     app.initGl(true);
     // Installed after ours, ImGui's callbacks chain to them.
     imguiPlatform = ImGui_ImplGlfw_InitForOpenGL(window, true);
-    const auto start = Clock::now();
-    auto last = start;
-    bool scriptRunning = script.has_value();
-    while (!glfwWindowShouldClose(window) && !app.quitRequested()) {
-      const auto now = Clock::now();
-      const double dt = std::chrono::duration<double>(now - last).count();
-      last = now;
-      if (scriptRunning)
-        scriptRunning = script->step(std::chrono::duration<double>(now - start).count(), host);
-      if (script && !scriptRunning) break;
-      app.fly(dt);
-      if (app.update()) host.dirty = true;
-      int fw = 0, fh = 0;
-      glfwGetFramebufferSize(window, &fw, &fh);
-      // Hover feedback in the panel needs frames for a moment after input.
-      const bool recentInput = std::chrono::duration<double>(now - host.lastInput).count() < 0.5;
-      if (!host.iconified && fw > 0 && fh > 0 &&
-          (host.dirty || recentInput || request.continuous)) {
-        const auto frameStart = Clock::now();
-        ImGui_ImplGlfw_NewFrame();
-        app.drawFrame(fw, fh, true, dt);
-        const auto drawn = Clock::now();
-        if (std::getenv("PENUMBRA_DEBUG_FRAMES")) glFinish();
-        const auto finished = Clock::now();
-        glfwSwapBuffers(window);
-        if (std::getenv("PENUMBRA_DEBUG_FRAMES"))
-          std::fprintf(stderr, "draw %.1f finish %.1f swap %.1f ms\n",
-                       std::chrono::duration<double>(drawn - frameStart).count() * 1e3,
-                       std::chrono::duration<double>(finished - drawn).count() * 1e3,
-                       std::chrono::duration<double>(Clock::now() - finished).count() * 1e3);
-        app.recordFrame(std::chrono::duration<double>(Clock::now() - frameStart).count());
-        host.dirty = false;
-      }
-      // At most 60 frames per second; events wake the loop early.
-      const double spent = std::chrono::duration<double>(Clock::now() - now).count();
-      glfwWaitEventsTimeout(std::max(0.0, 1.0 / 60 - spent));
-    }
+    frameLoop(host, script, request, opened, windowStats);
   } catch (const std::exception& e) {
     failure = e.what();
     status = 1;
@@ -231,7 +311,7 @@ void runWindow(ViewOptions options, const WindowRequest& request) {
   app.releaseGl();
   glfwDestroyWindow(window);
   if (request.closed)
-    request.closed(app, std::chrono::duration<double>(Clock::now() - opened).count());
+    request.closed(app, std::chrono::duration<double>(Clock::now() - opened).count(), windowStats);
   const FrameStats& stats = app.frameStats();
   std::fprintf(stderr, "penumbra view: %llu frames, mean %.1f ms, p95 %.1f ms, %d restarts\n",
                (unsigned long long)stats.frames,

@@ -1,14 +1,38 @@
 // The viewer in a GLFW window (OpenGL 3.3 core): events go to the ViewerApp, frames are drawn
-// when something changed (at most 60 a second), and an input script can drive it. `penumbra
-// view` opens it where there is a display (cli/cmd_view.cpp).
+// only when something changed (a new picture, input, a change of what is shown), paced so that
+// the render threads keep most of the machine (framePacing), and an input script can drive it.
+// `penumbra view` opens it where there is a display (cli/cmd_view.cpp).
 #pragma once
 
 #include "viewer/app/view_app.h"
 
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace penumbra {
+
+// What the window measured about itself, for the command's --report (the soak test's figures).
+struct WindowStats {
+  // The longest the UI thread went without taking events (seconds), and when (seconds after
+  // opening): a stall a person would feel.
+  double longestBusy = 0, longestBusyAt = 0;
+  // Resident memory (VmRSS, KiB) sampled twice a second: (seconds after opening, KiB).
+  std::vector<std::pair<double, long long>> rss;
+  // The script's marks: (name, seconds after opening).
+  std::vector<std::pair<std::string, double>> marks;
+};
+
+// The shortest time between two frames (seconds). With the renderer at work, a frame costs it
+// the cores the frame takes (on software GL, all of them), so frames keep to about a third of
+// the time (three times the last frame's cost apart): while the user acts at most 30 a second
+// and at least 5, and at most 4 a second when only a new picture arrived; with the renderer
+// idle, 60 a second.
+double framePacing(bool rendering, bool interacting, double lastFrameSeconds);
+
+// The process's resident memory in KiB (VmRSS from /proc/self/status), -1 where unknown.
+long long residentKiB();
 
 struct WindowRequest {
   int width = 0, height = 0;  // 0: the image at zoom 1 right of the panel, room for a legend
@@ -17,7 +41,7 @@ struct WindowRequest {
   bool continuous = false;  // redraw every frame even when nothing changed
   // Called once the window has closed, with the app and the seconds it was open (the
   // command's --report).
-  std::function<void(const ViewerApp&, double seconds)> closed;
+  std::function<void(const ViewerApp&, double seconds, const WindowStats&)> closed;
 };
 
 // Opens the window and returns when it closes. Throws std::runtime_error when GLFW or an

@@ -13,8 +13,10 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <string>
+#include <thread>
 
 namespace penumbra {
 namespace {
@@ -86,6 +88,38 @@ TEST(LiveReload, ReloadsOnAChangeOfTheSceneOrAFileItNames) {
   write(dir + "/tri.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n", 4);
   EXPECT_TRUE(app.checkSceneFiles());
   EXPECT_EQ(app.options().scene->scene.meshes[0].positions[1], vec3(2, 0, 0));
+}
+
+TEST(LiveReload, UpdateReadsAChangedSceneOnAThreadOfItsOwn) {
+  const std::string dir = folder();
+  const std::string path = writeScene(dir);
+  // The read waits at a gate: update() must return meanwhile, the last scene rendering on.
+  auto gate = std::make_shared<std::promise<void>>();
+  std::shared_future<void> open = gate->get_future().share();
+  ViewOptions options = optionsFor(path);
+  options.loadScene = [open](const std::string& file) {
+    open.wait();
+    return loadScene(file);
+  };
+  ViewerApp app(std::move(options));
+  write(path, sceneText("[0.25, 0.5, 0.75]", "[0, 0, 3]"), 2);
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // update() looks twice a second
+  const auto start = std::chrono::steady_clock::now();
+  app.update();  // starts the read
+  app.update();
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const int reloadsWhileReading = app.reloads();
+  gate->set_value();
+  EXPECT_LT(waited, 0.5) << "update() waited for the read";
+  EXPECT_EQ(reloadsWhileReading, 0);
+  EXPECT_EQ(app.options().scene->scene.materials[0].albedo, vec3(0.5f));
+  for (int i = 0; i < 1000 && app.reloads() == 0; ++i) {
+    app.update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(app.reloads(), 1);
+  EXPECT_EQ(app.options().scene->scene.materials[0].albedo, vec3(0.25f, 0.5f, 0.75f));
 }
 
 // Reads a whole file.

@@ -5,6 +5,10 @@
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
 namespace penumbra {
 namespace {
 
@@ -29,6 +33,11 @@ struct Recorder final : ScriptHost {
   void iconify(bool m) override { events.push_back(m ? "iconify" : "restore"); }
   void screenshot(const std::string& p) override { events.push_back("screenshot " + p); }
   void saveImage(const std::string& p) override { events.push_back("save " + p); }
+  void mark(const std::string& name) override { events.push_back("mark " + name); }
+  void region(int x, int y, int w, int h) override {
+    events.push_back("region " + std::to_string(x) + " " + std::to_string(y) + " " +
+                     std::to_string(w) + " " + std::to_string(h));
+  }
   void quit() override { events.push_back("quit"); }
   bool roundShown() override { return rounds > 0; }
   int rounds = 0;
@@ -62,6 +71,35 @@ TEST(ViewScript, SavesTheShownImageAndTakesScreenshots) {
   EXPECT_EQ(r.events[0], "save t1.exr");
   EXPECT_EQ(r.events[1], "screenshot s.png");
   EXPECT_THROW(InputScript::parse("save\n", "t"), ScriptError);
+}
+
+TEST(ViewScript, SetsAndClearsTheRenderRegion) {
+  InputScript s = InputScript::parse("region 10 20 30 40\nregion 0 0 0 0\nmark warm\n", "t");
+  Recorder r;
+  EXPECT_FALSE(s.step(0.0, r));
+  ASSERT_EQ(r.events.size(), 3u);
+  EXPECT_EQ(r.events[0], "region 10 20 30 40");
+  EXPECT_EQ(r.events[1], "region 0 0 0 0");
+  EXPECT_EQ(r.events[2], "mark warm");
+  EXPECT_THROW(InputScript::parse("mark\n", "t"), ScriptError);
+  EXPECT_THROW(InputScript::parse("region 1 2 3\n", "t"), ScriptError);
+  EXPECT_THROW(InputScript::parse("region 1 2 -3 4\n", "t"), ScriptError);
+  EXPECT_THROW(InputScript::parse("region 1 2 x 4\n", "t"), ScriptError);
+}
+
+TEST(ViewScript, TouchSetsAFilesModificationTimeToNow) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "penumbra_view_script_touch.txt";
+  std::ofstream(file) << "x";
+  const auto old = std::filesystem::file_time_type::clock::now() - std::chrono::hours(1);
+  std::filesystem::last_write_time(file, old);
+  InputScript s = InputScript::parse("touch " + file.string() + "\n", "t");
+  Recorder r;
+  EXPECT_FALSE(s.step(0.0, r));
+  EXPECT_GT(std::filesystem::last_write_time(file), old + std::chrono::minutes(30));
+  std::filesystem::remove(file);
+  EXPECT_THROW(InputScript::parse("touch\n", "t"), ScriptError);
+  EXPECT_THROW(InputScript::parse("touch /no/such/file.json\n", "t"), ScriptError);
 }
 
 TEST(ViewScript, WaitRoundWaitsForARoundOrItsTimeout) {
