@@ -105,12 +105,13 @@ class ConsistentMethod final : public ProgressiveMethod {
  private:
   bool usesNetworks() const { return config_.usesNetworks(); }
   // The coarse pass's steps, in samples per pixel: a batch run traces it in one round; an
-  // open-ended one (the viewer) in two, 2 samples per pixel and then the rest, each a round
-  // that publishes, so that a full picture shows after the first. The film receives the same
-  // samples in the same order either way.
+  // open-ended one (the viewer) in rounds of 1, 1 and the rest, each of which publishes, so
+  // that a full picture shows after one sample per pixel. The film receives the same samples
+  // in the same order either way.
   static std::vector<int> coarseSteps(const RunShape& shape, int coarseSpp) {
-    if (shape.openEnded && coarseSpp > 2) return {2, coarseSpp - 2};
-    return {coarseSpp};
+    if (!shape.openEnded || coarseSpp < 2) return {coarseSpp};
+    if (coarseSpp == 2) return {1, 1};
+    return {1, 1, coarseSpp - 2};
   }
   bool coarseComplete() const { return coarseStepsDone_ == coarseSteps_.size(); }
   void coarsePass(const std::atomic<bool>* cancel);
