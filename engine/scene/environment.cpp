@@ -200,6 +200,10 @@ vec3 EnvironmentLight::lookup(float u, float t) const {
 }
 
 vec3 EnvironmentLight::radiance(vec3 direction, float* pdf) const {
+  if (constant()) {
+    if (pdf) *pdf = cells_[0].pdf;
+    return map_->pixels[0] * strength_;
+  }
   const glm::vec2 ut = directionToEquirect(toMap(direction));
   if (pdf) *pdf = cellPdf(ut);
   return lookup(ut.x, ut.y);
@@ -242,12 +246,14 @@ bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf, vec3* ra
   const float uMap = (float(i) + uRemapped) / float(width_);
   const float phi = 2.0f * kPi * (uMap - 0.5f);
   direction = toWorld({sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)});
-  if (radiance) *radiance = lookup(uMap, std::acos(std::clamp(cosTheta, -1.0f, 1.0f)) / kPi);
+  if (radiance)
+    *radiance = constant() ? map_->pixels[0] * strength_
+                           : lookup(uMap, std::acos(std::clamp(cosTheta, -1.0f, 1.0f)) / kPi);
   return true;
 }
 
 void EnvironmentLight::prefetch(glm::vec2 u) const {
-  if (black()) return;
+  if (black() || constant()) return;
   const int j = findInterval(rowCdf_.data(), height_, u.y);
   const int slot = std::min(int(std::clamp(u.x, 0.0f, 1.0f) * float(width_)), width_ - 1);
   __builtin_prefetch(&cells_[size_t(j) * size_t(width_) + size_t(slot)]);
@@ -259,6 +265,7 @@ void EnvironmentLight::prefetch(glm::vec2 u) const {
 }
 
 float EnvironmentLight::pdf(vec3 direction) const {
+  if (constant()) return cells_[0].pdf;
   return cellPdf(directionToEquirect(toMap(direction)));
 }
 

@@ -85,6 +85,8 @@ class EnvironmentLight {
   // The integral of the luminance over the sphere (strength applied): the light's weight.
   double integratedLuminance() const { return integral_; }
   bool black() const { return !(integral_ > 0); }
+  // One radiance from every direction (a one-texel map): nothing to look up or prefetch.
+  bool constant() const { return width_ == 1 && height_ == 1; }
 
   // One texel: its column's entry in its row's alias table, and the pdfs of both columns it
   // may send a draw to, in one 16-byte record so that a draw reads one cache line.

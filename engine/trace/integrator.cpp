@@ -214,6 +214,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   if (features) *features = PathFeatures{};
 
   const EnvironmentLight* environment = prepared.lights.environment.get();
+  if (environment && environment->constant()) environment = nullptr;  // nothing to prefetch
   for (int depth = 0;; ++depth) {
     // The environment's sampling tables are large and read at random: ask for what the next
     // event estimate at this ray's hit will read (its light point is the dimension after the
