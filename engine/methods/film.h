@@ -115,6 +115,9 @@ class Film {
   Image meanImage() const;  // the estimates
   Image varianceOfMeanImage() const;
   FilmBuffers buffers(unsigned parts = FilmBuffers::kAll) const;
+  // Rows [firstRow, lastRow) only (clipped to the image; height lastRow - firstRow), their
+  // depths multiplied by `depthScale` (depthScale() for the same entries as buffers()).
+  FilmBuffers buffers(unsigned parts, int firstRow, int lastRow, float depthScale) const;
   // What FilmBuffers' depths are multiplied by: 1 / the mean depth of the pixels that have one.
   float depthScale() const;
   size_t memoryBytes() const {
@@ -127,8 +130,8 @@ class Film {
   int slicesPerSide_ = 0;
   std::vector<FilmSlice> slices_;
 
-  // Pixel p's radiance buffers (mean, variance, halves) in b.
-  void radianceBuffers(size_t p, FilmBuffers& b) const;
+  // Pixel p's radiance buffers (mean, variance, halves) in entry i of b.
+  void radianceBuffers(size_t p, FilmBuffers& b, size_t i) const;
 };
 
 }  // namespace penumbra
