@@ -49,10 +49,21 @@ recon::DenoiseInput inputOf(const FilmBuffers& b) {
 constexpr unsigned kReconstructionParts =
     FilmBuffers::kRadiance | FilmBuffers::kFeatures | FilmBuffers::kFeatureVariances;
 
+// Frees every buffer of b but the mean (which a reconstruction's input still points into).
+void releaseAllButMean(FilmBuffers& b) {
+  for (std::vector<vec3>* v :
+       {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
+    std::vector<vec3>().swap(*v);
+  for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
+    std::vector<float>().swap(*v);
+}
+
 }  // namespace
 
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel) {
+  // The buffers but the mean go once the filter has read them (they are as large as the
+  // filter's own planes).
   const int bandRows = bandRowsFor(film);
   if (bandRows < film.height()) {
     // One band's buffers at a time (the last is dropped before the next is made).
@@ -65,19 +76,10 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
           band = film.buffers(kReconstructionParts, first, last, depthScale);
           return inputOf(band);
         },
-        cancel);
+        cancel, [&band] { releaseAllButMean(band); });
   }
-  // The buffers but the mean go once the filter has read them (they are as large as the
-  // filter's own planes).
   FilmBuffers b = film.buffers(kReconstructionParts);
-  return recon::denoise(inputOf(b), config, cancel, [&b] {
-    // All but the mean, which the input still points into.
-    for (std::vector<vec3>* v :
-         {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
-      std::vector<vec3>().swap(*v);
-    for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
-      std::vector<float>().swap(*v);
-  });
+  return recon::denoise(inputOf(b), config, cancel, [&b] { releaseAllButMean(b); });
 }
 
 float relativeErrorRegulariser(vec3 mean) {
@@ -146,12 +148,17 @@ void addFilmMaps(Snapshot& snap, const Film& film) {
               MapLegend::sequential(0.0f, rawTop));
 }
 
-void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
-                           const recon::DenoiseConfig& config, const std::vector<float>& error) {
+void addFilterScaleMap(Snapshot& snap, const recon::DenoiseResult& result,
+                       const recon::DenoiseConfig& config) {
   std::vector<std::string> labels{"identity"};
   for (int r : config.radii) labels.push_back("r=" + std::to_string(r));
   snap.addMap(maps::FilterScale, "filter window", asFloats(result.scale),
               MapLegend::categorical(std::move(labels)));
+}
+
+void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
+                           const recon::DenoiseConfig& config, const std::vector<float>& error) {
+  addFilterScaleMap(snap, result, config);
   const float top = std::max(1e-6f, percentileOf(error, 0.99f));
   snap.addMap(maps::ErrorEstimate, "relMSE (estimated, filtered)", error,
               MapLegend::sequential(0.0f, top));

@@ -462,7 +462,8 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
 }
 
 DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config, int bandRows,
-                             const BandSource& source, const std::atomic<bool>* cancel) {
+                             const BandSource& source, const std::atomic<bool>* cancel,
+                             const std::function<void()>& inputsRead) {
   if (const std::string problem = validate(config); !problem.empty())
     throw std::invalid_argument("denoise: " + problem);
   if (width < 1 || height < 1 || bandRows < 1)
@@ -486,7 +487,8 @@ DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config,
                                   "x" + std::to_string(in.height) + " for rows " +
                                   std::to_string(first) + " to " + std::to_string(last));
     checkInput(in);
-    DenoiseResult band = denoiseRows(in, config, nullptr, cancel, {}, y0 - first, y1 - first);
+    DenoiseResult band =
+        denoiseRows(in, config, nullptr, cancel, inputsRead, y0 - first, y1 - first);
     const size_t at = size_t(y0) * size_t(width);
     std::copy(band.output.pixels.begin(), band.output.pixels.end(),
               result.output.pixels.begin() + ptrdiff_t(at));
