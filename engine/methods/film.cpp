@@ -16,7 +16,6 @@ void FilmPixel::add(vec3 radiance, const PathFeatures& features) {
   const PathFeatures& f = usable ? features : PathFeatures{};
   const vec3 rest = radiance - f.emission;
   if (count % 2 == 0) {
-    sumA += glm::dvec3(radiance);
     residualSumA += glm::dvec3(rest);
     ++countA;
   }
@@ -50,11 +49,15 @@ vec3 FilmPixel::varianceOfMean() const {
   return count > 1 ? vec3(m2 / (double(count - 1) * count)) : vec3(0.0f);
 }
 
-vec3 FilmPixel::meanA() const { return countA ? vec3(sumA / double(countA)) : vec3(0.0f); }
+vec3 FilmPixel::meanA() const {
+  return countA ? vec3(residualSumA / double(countA)) + emission : vec3(0.0f);
+}
 
 vec3 FilmPixel::meanB() const {
   const uint32_t countB = count - countA;
-  return countB ? vec3((mean * double(count) - sumA) / double(countB)) : vec3(0.0f);
+  return countB ? vec3((glm::dvec3(residual) * double(count) - residualSumA) / double(countB)) +
+                      emission
+                : vec3(0.0f);
 }
 
 vec3 FilmPixel::halfVarianceOfMean() const {
