@@ -13,9 +13,10 @@ namespace penumbra {
 namespace {
 
 // A band's output pixels, at most, when the film is reconstructed in bands
-// (recon::denoiseInBands): its planes (the film's buffers, the filtered domain, the features
-// and the bank's maps, about 350 bytes per pixel with the halo) then stay near 100 MB
-// whatever the image's size, instead of about 220 bytes per pixel of the whole image.
+// (recon::denoiseInBands): its planes (the film's buffers until the filter has read them, the
+// filtered domain and features, about 120 bytes per pixel, and the bank's maps, 80, over the
+// band and its halo: 166 rows at 1920 wide) then stay near 70 MB whatever the image's height,
+// instead of about 220 bytes per pixel of the whole image.
 constexpr size_t kBandPixels = size_t(1) << 18;
 // Each band sweeps 2 sureSmoothRadius rows beyond its own: images up to this size (1280x720
 // and below) are reconstructed whole.
