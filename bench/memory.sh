@@ -2,10 +2,12 @@
 # Memory at a real size (issue 25): for the asset scene (scripts/make_asset_scene.sh) and
 # scenes/tire.json, at 1280x720 and 1920x1080, the peak resident memory of a default-bp render
 # (--spp, with its texture_bytes and memory_bytes_per_pixel from --stats) and of a headless
-# view (--rounds), then the reconstruction's time at 1280x720 (bench/recon_bench.cpp). The
-# goal: every peak under 1 GB (1e9 bytes).
-#   bench/memory.sh                      # SPP=8 ROUNDS=4 by default
-#   SPP=4 SIZES=1920x1080 SCENES=tire bench/memory.sh
+# view (--rounds), and (with xvfb-run, DRAG=1 by default) of the window under Xvfb through a
+# scripted camera drag (30 s, two fast drags that restart the render, 30 s more), then the
+# reconstruction's time at 1280x720 (bench/recon_bench.cpp). The goal: every peak under 1 GB
+# (1e9 bytes).
+#   bench/memory.sh                      # SPP=8 ROUNDS=4 DRAG=1 by default
+#   SPP=4 SIZES=1920x1080 SCENES=tire DRAG=0 bench/memory.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD:-build}
@@ -13,6 +15,8 @@ spp=${SPP:-8}
 rounds=${ROUNDS:-4}
 sizes=${SIZES:-"1280x720 1920x1080"}
 scenes=${SCENES:-"asset tire"}
+kinds="render view"
+if [[ ${DRAG:-1} == 1 ]] && command -v xvfb-run >/dev/null; then kinds="$kinds drag"; fi
 goal=1000000000
 asset=$build/bench/asset_scene/scene.json
 if [[ " $scenes " == *" asset "* && ! -f $asset ]]; then scripts/make_asset_scene.sh; fi
@@ -27,6 +31,13 @@ peak() {
   if [[ $kind == render ]]; then
     cmd=("$build/penumbra" render "$scene" --method bp --spp "$spp" --size "$size" -q
          --stats "$out/stats.json" -o "$out/render.exr")
+  elif [[ $kind == drag ]]; then
+    # /usr/bin/time reports the largest resident set among the command and its descendants:
+    # the viewer's (Xvfb's is far smaller).
+    printf 'wait 30\ndrag left 600 400 900 420\nwait 2\ndrag left 900 420 500 380\nwait 30\nquit\n' \
+      >"$out/drag.txt"
+    cmd=(xvfb-run -a -s "-screen 0 ${size}x24" "$build/penumbra" view "$scene" --method bp
+         --size "$size" --script "$out/drag.txt" --report "$out/drag.json")
   else
     cmd=("$build/penumbra" view "$scene" --method bp --headless --rounds "$rounds" --size "$size"
          --screenshot "$out/view.png")
@@ -47,7 +58,7 @@ for name in $scenes; do
     *) scene=$name ;;
   esac
   for size in $sizes; do
-    for kind in render view; do
+    for kind in $kinds; do
       bytes=$(peak "$kind" "$scene" "$size")
       textures=- perpixel=-
       if [[ $kind == render ]]; then
