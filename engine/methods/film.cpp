@@ -1,5 +1,7 @@
 #include "methods/film.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -14,7 +16,6 @@ void FilmPixel::add(vec3 radiance, const PathFeatures& features) {
   const PathFeatures& f = usable ? features : PathFeatures{};
   const vec3 rest = radiance - f.emission;
   if (count % 2 == 0) {
-    sumA += glm::dvec3(radiance);
     residualSumA += glm::dvec3(rest);
     ++countA;
   }
@@ -48,11 +49,15 @@ vec3 FilmPixel::varianceOfMean() const {
   return count > 1 ? vec3(m2 / (double(count - 1) * count)) : vec3(0.0f);
 }
 
-vec3 FilmPixel::meanA() const { return countA ? vec3(sumA / double(countA)) : vec3(0.0f); }
+vec3 FilmPixel::meanA() const {
+  return countA ? vec3(residualSumA / double(countA)) + emission : vec3(0.0f);
+}
 
 vec3 FilmPixel::meanB() const {
   const uint32_t countB = count - countA;
-  return countB ? vec3((mean * double(count) - sumA) / double(countB)) : vec3(0.0f);
+  return countB ? vec3((glm::dvec3(residual) * double(count) - residualSumA) / double(countB)) +
+                      emission
+                : vec3(0.0f);
 }
 
 vec3 FilmPixel::halfVarianceOfMean() const {
@@ -129,14 +134,19 @@ Image Film::varianceOfMeanImage() const {
   return image;
 }
 
-FilmBuffers Film::buffers(unsigned parts) const {
-  const size_t n = pixels_.size();
+FilmBuffers Film::buffers(unsigned parts) const { return buffers(parts, 0, height_, depthScale()); }
+
+FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depthScale) const {
+  firstRow = std::clamp(firstRow, 0, height_);
+  lastRow = std::clamp(lastRow, firstRow, height_);
+  const size_t first = size_t(firstRow) * size_t(width_);
+  const size_t n = size_t(lastRow - firstRow) * size_t(width_);
   const bool radiance = parts & FilmBuffers::kRadiance, features = parts & FilmBuffers::kFeatures,
              featureVariances = parts & FilmBuffers::kFeatureVariances,
              emissionVariance = parts & FilmBuffers::kEmissionVariance;
   FilmBuffers b;
   b.width = width_;
-  b.height = height_;
+  b.height = lastRow - firstRow;
   if (radiance) {
     b.mean.resize(n);
     b.variance.resize(n);
@@ -155,25 +165,30 @@ FilmBuffers Film::buffers(unsigned parts) const {
     b.normalVariance.resize(n);
     b.depthVariance.resize(n);
   }
-  const float depthScale = this->depthScale();
-  for (size_t p = 0; p < n; ++p) {
-    const FilmPixel& px = pixels_[p];
-    // Variances of the means of the features: the sample variance over the count.
-    const float perSample = px.meanVarianceScale();
-    if (radiance) radianceBuffers(p, b);
-    if (features) {
-      b.emission[p] = px.emission;
-      b.albedo[p] = px.albedo;
-      b.normal[p] = px.normal;
-      b.depth[p] = px.depth * depthScale;
-    }
-    if (emissionVariance) b.emissionVariance[p] = px.emissionM2 * perSample;
-    if (featureVariances) {
-      b.albedoVariance[p] = px.albedoM2 * perSample;
-      b.normalVariance[p] = px.normalM2 * perSample;
-      b.depthVariance[p] = px.depthM2 * perSample * depthScale * depthScale;
-    }
-  }
+  // Each entry is its pixel's own: the pixels in parallel.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i < r.end(); ++i) {
+                        const size_t p = first + i;
+                        const FilmPixel& px = pixels_[p];
+                        // Variances of the means of the features: the sample variance over the
+                        // count.
+                        const float perSample = px.meanVarianceScale();
+                        if (radiance) radianceBuffers(p, b, i);
+                        if (features) {
+                          b.emission[i] = px.emission;
+                          b.albedo[i] = px.albedo;
+                          b.normal[i] = px.normal;
+                          b.depth[i] = px.depth * depthScale;
+                        }
+                        if (emissionVariance) b.emissionVariance[i] = px.emissionM2 * perSample;
+                        if (featureVariances) {
+                          b.albedoVariance[i] = px.albedoM2 * perSample;
+                          b.normalVariance[i] = px.normalM2 * perSample;
+                          b.depthVariance[i] = px.depthM2 * perSample * depthScale * depthScale;
+                        }
+                      }
+                    });
   return b;
 }
 
@@ -188,23 +203,23 @@ float Film::depthScale() const {
   return depthCount && depthSum > 0 ? float(depthCount / depthSum) : 1.0f;
 }
 
-void Film::radianceBuffers(size_t p, FilmBuffers& b) const {
+void Film::radianceBuffers(size_t p, FilmBuffers& b, size_t i) const {
   const FilmPixel& px = pixels_[p];
-  b.mean[p] = vec3(px.mean);
-  b.variance[p] = px.residualM2 * px.meanVarianceScale();
+  b.mean[i] = vec3(px.mean);
+  b.variance[i] = px.residualM2 * px.meanVarianceScale();
   const uint32_t countB = px.count - px.countA;
   const vec3 restA = px.countA ? vec3(px.residualSumA / double(px.countA)) : vec3(0.0f);
   const vec3 restB =
       countB ? vec3((glm::dvec3(px.residual) * double(px.count) - px.residualSumA) / double(countB))
              : vec3(0.0f);
-  b.halfA[p] = restA + px.emission;
-  b.halfB[p] = restB + px.emission;
+  b.halfA[i] = restA + px.emission;
+  b.halfB[i] = restB + px.emission;
   if (!stratified(p)) return;
   // The stratified estimate and its variance (which here includes the emission's: an
   // over-estimate only where emitters are seen directly), and stratified halves once every
   // slice has samples in both.
-  b.mean[p] = vec3(estimate(p));
-  b.variance[p] = estimateVarianceOfMean(p);
+  b.mean[i] = vec3(estimate(p));
+  b.variance[i] = estimateVarianceOfMean(p);
   const FilmSlice* s = &slices_[p * size_t(slicesPerPixel())];
   glm::dvec3 a(0.0), bb(0.0);
   for (int k = 0; k < slicesPerPixel(); ++k) {
@@ -213,8 +228,8 @@ void Film::radianceBuffers(size_t p, FilmBuffers& b) const {
     a += s[k].sumA / double(s[k].countA);
     bb += (s[k].mean * double(s[k].count) - s[k].sumA) / double(sliceCountB);
   }
-  b.halfA[p] = vec3(a / double(slicesPerPixel()));
-  b.halfB[p] = vec3(bb / double(slicesPerPixel()));
+  b.halfA[i] = vec3(a / double(slicesPerPixel()));
+  b.halfB[i] = vec3(bb / double(slicesPerPixel()));
 }
 
 }  // namespace penumbra

@@ -23,7 +23,6 @@ namespace penumbra {
 
 struct FilmPixel {
   glm::dvec3 mean{0.0}, m2{0.0};  // radiance: Welford's running mean and squared deviations
-  glm::dvec3 sumA{0.0};           // sum of the radiance of the samples in half A
   uint32_t count = 0, countA = 0;
   vec3 albedo{0.0f}, albedoM2{0.0f};
   vec3 normal{0.0f};
@@ -43,7 +42,10 @@ struct FilmPixel {
   float meanVarianceScale() const {
     return count > 1 ? 1.0f / (float(count - 1) * float(count)) : 0.0f;
   }
-  vec3 meanA() const;  // the halves' means (0 while empty)
+  // The halves' means (0 while empty), as FilmBuffers has them: the half's mean of the
+  // radiance less the emission, plus the emission's mean over all samples (the emission is not
+  // kept per half: 24 bytes a pixel less).
+  vec3 meanA() const;
   vec3 meanB() const;
   // (A - B)^2 nA nB / n^2: the two-buffer estimate of the variance of the mean.
   vec3 halfVarianceOfMean() const;
@@ -115,6 +117,9 @@ class Film {
   Image meanImage() const;  // the estimates
   Image varianceOfMeanImage() const;
   FilmBuffers buffers(unsigned parts = FilmBuffers::kAll) const;
+  // Rows [firstRow, lastRow) only (clipped to the image; height lastRow - firstRow), their
+  // depths multiplied by `depthScale` (depthScale() for the same entries as buffers()).
+  FilmBuffers buffers(unsigned parts, int firstRow, int lastRow, float depthScale) const;
   // What FilmBuffers' depths are multiplied by: 1 / the mean depth of the pixels that have one.
   float depthScale() const;
   size_t memoryBytes() const {
@@ -127,8 +132,8 @@ class Film {
   int slicesPerSide_ = 0;
   std::vector<FilmSlice> slices_;
 
-  // Pixel p's radiance buffers (mean, variance, halves) in b.
-  void radianceBuffers(size_t p, FilmBuffers& b) const;
+  // Pixel p's radiance buffers (mean, variance, halves) in entry i of b.
+  void radianceBuffers(size_t p, FilmBuffers& b, size_t i) const;
 };
 
 }  // namespace penumbra

@@ -3,18 +3,32 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 namespace penumbra {
 
-recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
-                                     const std::atomic<bool>* cancel) {
-  // The emission's variance is not read; the buffers but the mean go once the filter has read
-  // them (they are as large as the filter's own planes).
-  FilmBuffers b = film.buffers(FilmBuffers::kRadiance | FilmBuffers::kFeatures |
-                               FilmBuffers::kFeatureVariances);
+namespace {
+
+// A band's output pixels, at most, when the film is reconstructed in bands
+// (recon::denoiseInBands): its planes (the film's buffers until the filter has read them, the
+// filtered domain and features, about 120 bytes per pixel, and the bank's maps, 80, over the
+// band and its halo: 166 rows at 1920 wide) then stay near 70 MB whatever the image's height,
+// instead of about 220 bytes per pixel of the whole image.
+constexpr size_t kBandPixels = size_t(1) << 18;
+// Each band sweeps 2 sureSmoothRadius rows beyond its own: images up to this size (1280x720
+// and below) are reconstructed whole.
+constexpr size_t kWholePixels = size_t(1) << 20;
+
+int bandRowsFor(const Film& film) {
+  const size_t pixels = film.pixelCount();
+  if (pixels <= kWholePixels) return std::max(film.height(), 1);
+  return int(std::max<size_t>(64, kBandPixels / size_t(std::max(film.width(), 1))));
+}
+
+recon::DenoiseInput inputOf(const FilmBuffers& b) {
   recon::DenoiseInput in;
   in.width = b.width;
   in.height = b.height;
@@ -29,14 +43,44 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
   in.normalVariance = b.normalVariance;
   in.depth = b.depth;
   in.depthVariance = b.depthVariance;
-  return recon::denoise(in, config, cancel, [&b] {
-    // All but the mean, which `in` still points into.
-    for (std::vector<vec3>* v :
-         {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
-      std::vector<vec3>().swap(*v);
-    for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
-      std::vector<float>().swap(*v);
-  });
+  return in;
+}
+
+// The emission's variance is not read.
+constexpr unsigned kReconstructionParts =
+    FilmBuffers::kRadiance | FilmBuffers::kFeatures | FilmBuffers::kFeatureVariances;
+
+// Frees every buffer of b but the mean (which a reconstruction's input still points into).
+void releaseAllButMean(FilmBuffers& b) {
+  for (std::vector<vec3>* v :
+       {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
+    std::vector<vec3>().swap(*v);
+  for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
+    std::vector<float>().swap(*v);
+}
+
+}  // namespace
+
+recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
+                                     const std::atomic<bool>* cancel) {
+  // The buffers but the mean go once the filter has read them (they are as large as the
+  // filter's own planes).
+  const int bandRows = bandRowsFor(film);
+  if (bandRows < film.height()) {
+    // One band's buffers at a time (the last is dropped before the next is made).
+    const float depthScale = film.depthScale();
+    FilmBuffers band;
+    return recon::denoiseInBands(
+        film.width(), film.height(), config, bandRows,
+        [&](int first, int last) {
+          band = FilmBuffers{};
+          band = film.buffers(kReconstructionParts, first, last, depthScale);
+          return inputOf(band);
+        },
+        cancel, [&band] { releaseAllButMean(band); });
+  }
+  FilmBuffers b = film.buffers(kReconstructionParts);
+  return recon::denoise(inputOf(b), config, cancel, [&b] { releaseAllButMean(b); });
 }
 
 float relativeErrorRegulariser(vec3 mean) {
@@ -105,12 +149,17 @@ void addFilmMaps(Snapshot& snap, const Film& film) {
               MapLegend::sequential(0.0f, rawTop));
 }
 
-void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
-                           const recon::DenoiseConfig& config, const std::vector<float>& error) {
+void addFilterScaleMap(Snapshot& snap, const recon::DenoiseResult& result,
+                       const recon::DenoiseConfig& config) {
   std::vector<std::string> labels{"identity"};
   for (int r : config.radii) labels.push_back("r=" + std::to_string(r));
   snap.addMap(maps::FilterScale, "filter window", asFloats(result.scale),
               MapLegend::categorical(std::move(labels)));
+}
+
+void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
+                           const recon::DenoiseConfig& config, const std::vector<float>& error) {
+  addFilterScaleMap(snap, result, config);
   const float top = std::max(1e-6f, percentileOf(error, 0.99f));
   snap.addMap(maps::ErrorEstimate, "relMSE (estimated, filtered)", error,
               MapLegend::sequential(0.0f, top));

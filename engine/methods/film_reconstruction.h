@@ -46,6 +46,9 @@ inline constexpr const MapKind* kFilm[] = {&Albedo, &Normal, &Depth, &Emission, 
 
 // Albedo, normal, depth, directly seen emission and the raw image's estimated relative error.
 void addFilmMaps(Snapshot& snap, const Film& film);
+// The chosen scale per pixel (FilterScale).
+void addFilterScaleMap(Snapshot& snap, const recon::DenoiseResult& result,
+                       const recon::DenoiseConfig& config);
 // The chosen scale per pixel (FilterScale) and the filtered image's estimated relative error
 // (ErrorEstimate).
 void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,

@@ -16,9 +16,6 @@
 #include <fstream>
 #include <optional>
 #include <stdexcept>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 namespace penumbra {
 
@@ -241,14 +238,9 @@ long long residentKiB() {
 }
 
 void runWindow(ViewOptions options, const WindowRequest& request) {
-#if defined(__GLIBC__)
-  // Blocks of 1 MiB and more (a method's per-pixel planes, snapshots' images, a scene's
-  // buffers) come from the system and go back to it when freed. Left alone, glibc raises this
-  // threshold to the largest block freed so far (up to 32 MiB), after which such blocks live in
-  // its heap arenas, and what a replaced method or a reloaded scene frees stays resident there:
-  // the asset scene's soak (bench/soak.sh --asset) grew 13 % after warm-up that way.
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
-#endif
+  // Freed per-pixel planes leave the resident set: cli/main.cpp fixes glibc's mmap threshold
+  // for every command (the asset scene's soak, bench/soak.sh --asset, grew 13 % after warm-up
+  // without it).
   std::optional<InputScript> script;
   if (!request.script.empty()) script = InputScript::load(request.script);
   options.background = true;  // the UI thread keeps its frame rate

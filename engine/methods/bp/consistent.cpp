@@ -618,7 +618,9 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
       reconstructedAtRound_ = s_.rounds;
     }
     recon::DenoiseResult& r = *lastReconstruction_;
-    addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
+    // Its error estimate map is not made: the allocation error below takes the same kind (a
+    // pass over the film and a percentile, for a map that would be replaced).
+    addFilterScaleMap(*snap, r, config_.denoise);
     // The output moves into the snapshot; of the rest only the scale (for inspect) is read
     // again.
     snap->reconstructed = std::move(r.output);

@@ -324,67 +324,92 @@ std::string validate(const DenoiseConfig& config) {
   return {};
 }
 
-DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
-                      const std::atomic<bool>* cancel, const std::function<void()>& inputsRead) {
-  return denoiseDetailed(in, config, nullptr, cancel, inputsRead);
+namespace {
+
+// The rows of an input beyond a band's own that its output needs on either side: the SURE
+// maps' box, then the widest window and the patch (and the features' gradients) around those.
+int bandHalo(const DenoiseConfig& config) {
+  return config.sureSmoothRadius + (config.radii.empty() ? 0 : config.radii.back()) +
+         config.patchRadius + 1;
 }
 
-DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
-                              DenoiseDetail* detail, const std::atomic<bool>* cancel,
-                              const std::function<void()>& inputsRead) {
-  if (const std::string problem = validate(config); !problem.empty())
-    throw std::invalid_argument("denoise: " + problem);
-  checkInput(in);
+// denoiseDetailed for the output rows [outFirst, outLast) of `in` (the result holds those rows
+// only): the bank is swept over them and sureSmoothRadius rows either side, whose SURE the
+// box reads; every row of `in` may be read as a neighbour. For a pixel whose rows out to
+// bandHalo(config) lie in `in` (or end where the image does), the result is the whole
+// image's, bit for bit: every step is the pixel's own or reads a fixed neighbourhood.
+DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
+                          DenoiseDetail* detail, const std::atomic<bool>* cancel,
+                          const std::function<void()>& inputsRead, int outFirst, int outLast) {
   const Usage use = usageOf(in, config);
+  const size_t width = size_t(in.width);
   // The candidates, index 0 the identity: the mean itself, whose squared error is V exactly
   // (its output and variance ratio, in.mean and 1, are not copied).
   std::vector<detail::ScaleMaps> candidates(1);
   SweepInput domain = filteredDomain(in, config, use, candidates[0].mse);
   addFeatures(in, config, use, domain);
   if (inputsRead) inputsRead();  // from here on only in.mean is read
+  const int sweepFirst = std::max(0, outFirst - config.sureSmoothRadius);
+  const int sweepLast = std::min(in.height, outLast + config.sureSmoothRadius);
+  const int sweepRows = sweepLast - sweepFirst;
+  domain.firstRow = sweepFirst;
+  domain.lastRow = sweepLast;
   {
     const detail::SweepConfig sweep{config.radii, config.k, config.noiseCancel, config.patchRadius,
                                     config.denseRadius};
     std::vector<detail::ScaleMaps> filtered = detail::sweepScales(domain, sweep, cancel);
     for (detail::ScaleMaps& maps : filtered) candidates.push_back(std::move(maps));
   }
+  // The identity's SURE of the swept rows only.
+  if (sweepFirst > 0 || sweepLast < in.height) {
+    std::vector<float>& mse = candidates[0].mse;
+    std::vector<float>(mse.begin() + ptrdiff_t(size_t(sweepFirst) * width),
+                       mse.begin() + ptrdiff_t(size_t(sweepLast) * width))
+        .swap(mse);
+  }
   // Of the filtered domain only the pixels' validity is read from here on: the rest goes, and
   // each candidate's SURE once it is smoothed (unless `detail` wants it), so that a large
   // image's reconstruction does not hold them all at once.
-  const Plane valid = std::move(domain.valid);
+  Plane valid;
+  valid.assign(size_t(sweepRows) * width, 0.0f);
+  std::copy(domain.valid.begin() + ptrdiff_t(size_t(sweepFirst) * width),
+            domain.valid.begin() + ptrdiff_t(size_t(sweepLast) * width), valid.begin());
   domain = SweepInput{};
   std::vector<std::vector<float>> smoothedMse;
   for (detail::ScaleMaps& maps : candidates) {
-    smoothedMse.push_back(boxMean(maps.mse, in.width, in.height, config.sureSmoothRadius,
+    smoothedMse.push_back(boxMean(maps.mse, in.width, sweepRows, config.sureSmoothRadius,
                                   std::span<const float>(valid.data(), valid.size())));
     if (!detail) std::vector<float>().swap(maps.mse);
   }
 
-  const size_t count = in.mean.size();
+  const size_t count = size_t(outLast - outFirst) * width;
+  const size_t skip = size_t(outFirst - sweepFirst) * width;  // output row 0 in the swept rows
+  const size_t base = size_t(outFirst) * width;               // and in `in`
   DenoiseResult result;
-  result.output = Image(in.width, in.height);
+  result.output = Image(in.width, outLast - outFirst);
   result.scale.assign(count, 0);
   result.mseEstimate.assign(count, 0.0f);
   result.varianceRatio.assign(count, 1.0f);
-  forEachPixel(in.width, in.height, [&](size_t p, int, int) {
+  forEachPixel(in.width, outLast - outFirst, [&](size_t o, int, int) {
+    const size_t p = base + o, i = skip + o;
     // The least smoothed SURE wins; ties go to the narrower scale (the identity first).
     size_t best = 0;
-    if (valid[p] > 0.0f) {
+    if (valid[i] > 0.0f) {
       for (size_t s = 1; s < candidates.size(); ++s)
-        if (smoothedMse[s][p] < smoothedMse[best][p]) best = s;
+        if (smoothedMse[s][i] < smoothedMse[best][i]) best = s;
     }
-    vec3 output = best == 0 ? in.mean[p] : candidates[best].output[p];
+    vec3 output = best == 0 ? in.mean[p] : candidates[best].output[i];
     // Belt and braces: a finite mean never becomes a non-finite output.
     if (!isFinite(output) && isFinite(in.mean[p])) {
       best = 0;
       output = in.mean[p];
     }
-    result.output.pixels[p] = output;
-    result.scale[p] = uint8_t(best);
-    const float mse = smoothedMse[best][p] / 3.0f;
+    result.output.pixels[o] = output;
+    result.scale[o] = uint8_t(best);
+    const float mse = smoothedMse[best][i] / 3.0f;
     // NaN becomes 0; a pixel that is not valid keeps +inf (its variance counts as infinite).
-    result.mseEstimate[p] = mse > 0.0f ? mse : 0.0f;
-    result.varianceRatio[p] = best == 0 ? 1.0f : candidates[best].varianceRatio[p];
+    result.mseEstimate[o] = mse > 0.0f ? mse : 0.0f;
+    result.varianceRatio[o] = best == 0 ? 1.0f : candidates[best].varianceRatio[i];
   });
 
   if (detail) {
@@ -404,6 +429,84 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
     }
   }
   return result;
+}
+
+// Rows [first, last) of an input (every span that is not empty).
+DenoiseInput rowsOf(const DenoiseInput& in, int first, int last) {
+  DenoiseInput out = in;
+  out.height = last - first;
+  const size_t offset = size_t(first) * size_t(in.width), count = size_t(out.height) * in.width;
+  auto cut = [&]<typename T>(std::span<const T>& s) {
+    if (!s.empty()) s = s.subspan(offset, count);
+  };
+  cut(out.mean), cut(out.variance), cut(out.halfA), cut(out.halfB), cut(out.emission);
+  cut(out.albedo), cut(out.albedoVariance), cut(out.normal), cut(out.normalVariance);
+  cut(out.depth), cut(out.depthVariance);
+  return out;
+}
+
+}  // namespace
+
+DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
+                      const std::atomic<bool>* cancel, const std::function<void()>& inputsRead) {
+  return denoiseDetailed(in, config, nullptr, cancel, inputsRead);
+}
+
+DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& config,
+                              DenoiseDetail* detail, const std::atomic<bool>* cancel,
+                              const std::function<void()>& inputsRead) {
+  if (const std::string problem = validate(config); !problem.empty())
+    throw std::invalid_argument("denoise: " + problem);
+  checkInput(in);
+  return denoiseRows(in, config, detail, cancel, inputsRead, 0, in.height);
+}
+
+DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config, int bandRows,
+                             const BandSource& source, const std::atomic<bool>* cancel,
+                             const std::function<void()>& inputsRead) {
+  if (const std::string problem = validate(config); !problem.empty())
+    throw std::invalid_argument("denoise: " + problem);
+  if (width < 1 || height < 1 || bandRows < 1)
+    throw std::invalid_argument("denoise: width " + std::to_string(width) + ", height " +
+                                std::to_string(height) + " or band rows " +
+                                std::to_string(bandRows) + " is < 1");
+  const size_t count = size_t(width) * size_t(height);
+  DenoiseResult result;
+  result.output = Image(width, height);
+  result.scale.assign(count, 0);
+  result.mseEstimate.assign(count, 0.0f);
+  result.varianceRatio.assign(count, 1.0f);
+  const int halo = bandHalo(config);
+  for (int y0 = 0; y0 < height; y0 += bandRows) {
+    if (cancel && cancel->load(std::memory_order_relaxed)) break;
+    const int y1 = std::min(height, y0 + bandRows);
+    const int first = std::max(0, y0 - halo), last = std::min(height, y1 + halo);
+    const DenoiseInput in = source(first, last);
+    if (in.width != width || in.height != last - first)
+      throw std::invalid_argument("denoise: the band source gave " + std::to_string(in.width) +
+                                  "x" + std::to_string(in.height) + " for rows " +
+                                  std::to_string(first) + " to " + std::to_string(last));
+    checkInput(in);
+    DenoiseResult band =
+        denoiseRows(in, config, nullptr, cancel, inputsRead, y0 - first, y1 - first);
+    const size_t at = size_t(y0) * size_t(width);
+    std::copy(band.output.pixels.begin(), band.output.pixels.end(),
+              result.output.pixels.begin() + ptrdiff_t(at));
+    std::copy(band.scale.begin(), band.scale.end(), result.scale.begin() + ptrdiff_t(at));
+    std::copy(band.mseEstimate.begin(), band.mseEstimate.end(),
+              result.mseEstimate.begin() + ptrdiff_t(at));
+    std::copy(band.varianceRatio.begin(), band.varianceRatio.end(),
+              result.varianceRatio.begin() + ptrdiff_t(at));
+  }
+  return result;
+}
+
+DenoiseResult denoiseInBands(const DenoiseInput& in, const DenoiseConfig& config, int bandRows,
+                             const std::atomic<bool>* cancel) {
+  checkInput(in);
+  return denoiseInBands(
+      in.width, in.height, config, bandRows,
+      [&](int first, int last) { return rowsOf(in, first, last); }, cancel);
 }
 
 }  // namespace penumbra::recon

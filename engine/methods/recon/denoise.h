@@ -145,4 +145,23 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
                               DenoiseDetail* detail, const std::atomic<bool>* cancel = nullptr,
                               const std::function<void()>& inputsRead = {});
 
+// The input rows [first, last) of an image (all its columns; height last - first): every span
+// that the whole image's input would fill, holding those rows only. The spans must stay valid
+// until the next call.
+using BandSource = std::function<DenoiseInput(int first, int last)>;
+
+// denoise in bands of `bandRows` output rows, each from the rows of the input around it that
+// its output reads (the bank's widest window, the patch and the SURE box), so that only a
+// band's planes are held at a time: the same result as denoise on the whole image, bit for
+// bit, at the cost of sweeping 2 sureSmoothRadius more rows per band. `source` is asked for
+// each band's rows in turn (rows top first); `inputsRead`, when set, is called once a band's
+// spans but `mean` have been read for the last time (as denoise's). A cancelled result is
+// incomplete.
+DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config, int bandRows,
+                             const BandSource& source, const std::atomic<bool>* cancel = nullptr,
+                             const std::function<void()>& inputsRead = {});
+// The same over an input held whole (its bands are sub-spans of it).
+DenoiseResult denoiseInBands(const DenoiseInput& in, const DenoiseConfig& config, int bandRows,
+                             const std::atomic<bool>* cancel = nullptr);
+
 }  // namespace penumbra::recon

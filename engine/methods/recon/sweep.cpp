@@ -120,20 +120,21 @@ void Plane::assign(size_t count, float value) {
 
 std::vector<ScaleMaps> sweepScales(const SweepInput& in, const SweepConfig& config,
                                    const std::atomic<bool>* cancel) {
-  const size_t count = size_t(in.width) * in.height;
+  const int rows = in.rowEnd() - in.firstRow;
+  const size_t count = size_t(in.width) * size_t(std::max(rows, 0));
   std::vector<ScaleMaps> out(config.radii.size());
   for (ScaleMaps& maps : out) {
     maps.output.assign(count, vec3(0.0f));
     maps.mse.assign(count, std::numeric_limits<float>::infinity());
     maps.varianceRatio.assign(count, 1.0f);
   }
-  if (config.radii.empty()) return out;
+  if (config.radii.empty() || rows <= 0) return out;
   const std::vector<Offset> offsets = sweepOffsets(config);
   const size_t rowBytes =
       config.radii.size() * in.streams * kSumsPerStream * sizeof(float) * in.width;
   const int blockRows =
       std::clamp(int(kSumsBudget / std::max<size_t>(rowBytes, 1)), kMinBlockRows, kMaxBlockRows);
-  const int blocks = (in.height + blockRows - 1) / blockRows;
+  const int blocks = (rows + blockRows - 1) / blockRows;
   const SweepBlocks sweep = sweepBlocksForThisCpu();
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& r) {
     const FlushDenormals flush;

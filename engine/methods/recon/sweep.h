@@ -49,6 +49,10 @@ struct FeaturePlanes {
 // width * height entries and a pixel that is not valid holds zeros.
 struct SweepInput {
   int width = 0, height = 0;
+  // The rows filtered, [firstRow, lastRow) (lastRow 0: to the last); the others are read only
+  // as neighbours. The maps sweepScales returns hold these rows only.
+  int firstRow = 0, lastRow = 0;
+  int rowEnd() const { return lastRow > 0 ? lastRow : height; }
   // 1: stream 0 is the mean, weighted by its own colours. 2: cross-filtering, stream 0 is half
   // A weighted by the colours of half B and stream 1 the reverse.
   int streams = 1;
@@ -108,7 +112,8 @@ bool sweepBlocks(const SweepInput&, const SweepConfig&, std::span<const Offset>,
                  std::vector<ScaleMaps>&, const std::atomic<bool>*);
 }
 
-// One map per radius. Pixels that are not valid get output 0, mse +inf and ratio 1.
+// One map per radius, of the rows [in.firstRow, in.rowEnd()). Pixels that are not valid get
+// output 0, mse +inf and ratio 1.
 std::vector<ScaleMaps> sweepScales(const SweepInput& in, const SweepConfig& config,
                                    const std::atomic<bool>* cancel);
 

@@ -121,5 +121,42 @@ TEST(Film, WithEquallySampledSlicesTheEstimateIsThePlainMean) {
   EXPECT_NEAR(film.estimate(0).x, float(film[0].mean.x), 1e-6f);
 }
 
+// A range of rows is those rows of the whole image's buffers, bit for bit.
+TEST(Film, BuffersOfARangeOfRowsAreThoseRowsOfTheWhole) {
+  Film film(5, 7);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(0.0f, 4.0f);
+  for (size_t p = 0; p < film.pixelCount(); ++p) {
+    for (int i = 0; i < int(p % 4); ++i) {
+      PathFeatures f;
+      f.albedo = vec3(value(rng) / 4.0f);
+      f.normal = vec3(0, 0, 1);
+      f.depth = value(rng) + 1.0f;
+      f.emission = vec3(p % 3 == 0 ? value(rng) : 0.0f);
+      film.add(p, vec3(value(rng)), f);
+    }
+  }
+  const FilmBuffers whole = film.buffers();
+  const FilmBuffers rows = film.buffers(FilmBuffers::kAll, 2, 5, film.depthScale());
+  EXPECT_EQ(rows.width, 5);
+  EXPECT_EQ(rows.height, 3);
+  auto expectRows = [&](const auto& all, const auto& part) {
+    ASSERT_EQ(part.size(), size_t(15));
+    for (size_t i = 0; i < part.size(); ++i) EXPECT_EQ(part[i], all[10 + i]) << i;
+  };
+  expectRows(whole.mean, rows.mean);
+  expectRows(whole.variance, rows.variance);
+  expectRows(whole.halfA, rows.halfA);
+  expectRows(whole.halfB, rows.halfB);
+  expectRows(whole.emission, rows.emission);
+  expectRows(whole.emissionVariance, rows.emissionVariance);
+  expectRows(whole.albedo, rows.albedo);
+  expectRows(whole.albedoVariance, rows.albedoVariance);
+  expectRows(whole.normal, rows.normal);
+  expectRows(whole.normalVariance, rows.normalVariance);
+  expectRows(whole.depth, rows.depth);
+  expectRows(whole.depthVariance, rows.depthVariance);
+}
+
 }  // namespace
 }  // namespace penumbra
