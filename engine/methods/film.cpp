@@ -203,6 +203,29 @@ float Film::depthScale() const {
   return depthCount && depthSum > 0 ? float(depthCount / depthSum) : 1.0f;
 }
 
+vec3 Film::neighbourVariance(size_t p) const {
+  // The sample variance of the filtered part's estimates over the 3x3 pixels around p that
+  // have samples. It counts the signal's change across them too: an over-estimate at edges and
+  // in texture, which the features' weights keep the filter from blurring across.
+  const int x = int(p % size_t(width_)), y = int(p / size_t(width_));
+  glm::dvec3 sum(0.0), sumSq(0.0);
+  int n = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= width_ || qy >= height_) continue;
+      const FilmPixel& q = pixels_[size_t(qy) * size_t(width_) + size_t(qx)];
+      if (q.count == 0) continue;
+      const glm::dvec3 r(q.residual);
+      sum += r;
+      sumSq += r * r;
+      ++n;
+    }
+  if (n < 2) return vec3(0.0f);
+  const glm::dvec3 mean = sum / double(n);
+  return vec3(glm::max((sumSq - double(n) * mean * mean) / double(n - 1), glm::dvec3(0.0)));
+}
+
 void Film::radianceBuffers(size_t p, FilmBuffers& b, size_t i) const {
   const FilmPixel& px = pixels_[p];
   b.mean[i] = vec3(px.mean);
@@ -214,6 +237,13 @@ void Film::radianceBuffers(size_t p, FilmBuffers& b, size_t i) const {
              : vec3(0.0f);
   b.halfA[i] = restA + px.emission;
   b.halfB[i] = restB + px.emission;
+  if (px.count == 1) {
+    // One sample (the viewer's first round): no variance of its own and no second half. Its
+    // neighbours' samples stand in for the variance, and both halves are the sample, so that
+    // the reconstruction filters the first picture instead of showing its noise.
+    b.variance[i] = neighbourVariance(p);
+    b.halfB[i] = b.halfA[i];
+  }
   if (!stratified(p)) return;
   // The stratified estimate and its variance (which here includes the emission's: an
   // over-estimate only where emitters are seen directly), and stratified halves once every

@@ -134,6 +134,8 @@ class Film {
 
   // Pixel p's radiance buffers (mean, variance, halves) in entry i of b.
   void radianceBuffers(size_t p, FilmBuffers& b, size_t i) const;
+  // A pixel with one sample's stand-in variance, from its neighbours' samples.
+  vec3 neighbourVariance(size_t p) const;
 };
 
 }  // namespace penumbra
