@@ -224,11 +224,6 @@ vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direct
   return radiance;
 }
 
-float environmentPdf(const LightSampler& lights, vec3 direction) {
-  return lights.environment ? lights.environmentProbability * lights.environment->pdf(direction)
-                            : 0.0f;
-}
-
 float lightPdf(const Scene& scene, const LightSampler& lights, uint32_t meshId, uint32_t primId,
                vec3 reference, vec3 point, vec3 normal, float time) {
   const std::vector<float>& perTriangle = lights.triangleProbability[meshId];

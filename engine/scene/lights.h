@@ -44,12 +44,11 @@ struct LightSampler {
 std::shared_ptr<const EnvironmentLight> lightingEnvironment(const Scene& scene);
 // What a ray that leaves the scene sees: camera rays (`cameraRay`) see the backdrop (the
 // background when the scene has both an environment and a background; nothing when the scene is
-// transparent), the others the lighting environment. With `lightPdf`, also environmentPdf of
-// the direction for the lighting environment (0 for the backdrop), sharing its map lookup.
+// transparent), the others the lighting environment. With `lightPdf`, also the solid-angle pdf
+// with which sampleLight would produce the direction from the lighting environment (0 for the
+// backdrop), sharing its map lookup.
 vec3 escapedRadiance(const Scene& scene, const LightSampler& lights, vec3 direction, bool cameraRay,
                      float* lightPdf = nullptr);
-// Solid-angle pdf with which sampleLight would produce `direction` from the environment.
-float environmentPdf(const LightSampler& lights, vec3 direction);
 
 LightSampler buildLightSampler(const Scene& scene);
 

@@ -95,17 +95,19 @@ glm::vec2 PixelSampler::next2D() {
     const float a = rng_.nextFloat();
     return {a, rng_.nextFloat()};
   }
-  const DimensionKeys& k = keys(dimension_++);
-  const uint32_t index = shuffledIndex(k);
-  return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
+  return lowDiscrepancy2D(dimension_++);
 }
 
 bool PixelSampler::peek2D(uint32_t ahead, glm::vec2& value) {
   if (kind_ == SamplerKind::Independent) return false;
-  const DimensionKeys& k = keys(dimension_ + ahead);
-  const uint32_t index = shuffledIndex(k);
-  value = {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
+  value = lowDiscrepancy2D(dimension_ + ahead);
   return true;
+}
+
+glm::vec2 PixelSampler::lowDiscrepancy2D(uint32_t dimension) {
+  const DimensionKeys& k = keys(dimension);
+  const uint32_t index = shuffledIndex(k);
+  return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
 }
 
 }  // namespace penumbra

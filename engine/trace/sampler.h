@@ -133,6 +133,7 @@ class PixelSampler {
   DimensionKeys keysFor(uint32_t dimension) const;
   const DimensionKeys& keys(uint32_t dimension);
   uint32_t shuffledIndex(const DimensionKeys& keys) const;
+  glm::vec2 lowDiscrepancy2D(uint32_t dimension);  // a 2D dimension's value for this sample
 
   SamplerKind kind_;
   BlockOrder order_;
