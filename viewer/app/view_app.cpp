@@ -234,8 +234,8 @@ void ViewerApp::restart() {
     preview->method = "preview";
     preview->width = view->scene.settings.width;
     preview->height = view->scene.settings.height;
+    // Stored once, as raw: with no reconstruction the shown image is the raw one.
     preview->raw = renderPreview(*view, options_.shape.seed, previewBlock(preview->width));
-    preview->reconstructed = preview->raw;
     snapshot_ = view_.region.active() ? placeInRegion(std::move(preview)) : std::move(preview);
     overlayStale_ = texturesStale_ = true;
     firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
@@ -399,7 +399,7 @@ std::shared_ptr<const Snapshot> ViewerApp::placeInRegion(
     return out;
   };
   full->raw = place(snapshot->raw);
-  full->reconstructed = place(snapshot->reconstructed);
+  if (!snapshot->reconstructed.empty()) full->reconstructed = place(snapshot->reconstructed);
   // The maps cover the region only: zero outside.
   for (SnapshotMap& map : full->maps) {
     const size_t channels = map.channels();

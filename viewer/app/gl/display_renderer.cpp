@@ -25,10 +25,13 @@ unsigned makeTexture() {
   return t;
 }
 
-void uploadRgb(unsigned texture, const Image& image) {
+// Linear RGB floats, stored as `format` (GL_RGB32F, or GL_RGB16F where half precision is
+// enough: the display image, whose 11-bit mantissa is far finer than the 8-bit picture made of
+// it, in half the memory, which llvmpipe keeps in the process).
+void uploadRgb(unsigned texture, const Image& image, GLenum format = GL_RGB32F) {
   glBindTexture(GL_TEXTURE_2D, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, image.width, image.height, 0, GL_RGB, GL_FLOAT,
+  glTexImage2D(GL_TEXTURE_2D, 0, GLint(format), image.width, image.height, 0, GL_RGB, GL_FLOAT,
                image.pixels.data());
 }
 
@@ -97,7 +100,7 @@ DisplayRenderer::~DisplayRenderer() {
 
 void DisplayRenderer::setImage(const Image& image) {
   if (image.empty()) return;
-  uploadRgb(image_, image);
+  uploadRgb(image_, image, GL_RGB16F);
   if (image.width != width_ || image.height != height_) {
     glBindTexture(GL_TEXTURE_2D, picture_);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
@@ -109,7 +112,12 @@ void DisplayRenderer::setImage(const Image& image) {
 }
 
 void DisplayRenderer::setOverlay(const Image& colors) {
-  if (!colors.empty()) uploadRgb(overlay_, colors);
+  if (!colors.empty()) {
+    uploadRgb(overlay_, colors);
+    overlayTexels_ = size_t(colors.width) * size_t(colors.height);
+  } else if (overlayTexels_ > 1) {
+    setOverlay(Image(1, 1));  // no overlay shown: its texture need not keep a full image
+  }
   pictureStale_ = true;
 }
 
@@ -137,9 +145,17 @@ void DisplayRenderer::composite(const DisplayView& view) {
   pictureBlend_ = view.blend;
 }
 
+void DisplayRenderer::clearSlices() {
+  if (slicesTexels_ <= 1) return;
+  Snapshot empty;
+  empty.width = empty.height = 1;
+  setSlices(empty);
+}
+
 void DisplayRenderer::setSlices(const Snapshot& snapshot) {
   const int width = snapshot.width, height = snapshot.height;
   const size_t n = size_t(width) * height;
+  slicesTexels_ = n;
   std::vector<uint8_t> texels(4 * n, kSliceTexelNone);
   // The texel of a slice index: index + 1, kSliceTexelNone (0) for none (-1).
   static_assert(kSliceTexelNone == 0, "a slice index i is stored as i + 1");
