@@ -228,7 +228,9 @@ void ViewerApp::restart() {
   mseHistory_.clear();
   if (options_.preview) {
     // Drawn here, on the UI thread, so the new view shows within a frame whatever the
-    // render threads are doing; the method's first round replaces it.
+    // render threads are doing; the method's first round replaces it. The old view's
+    // snapshot goes first (the session has released it too), not after the preview is made.
+    snapshot_.reset();
     auto preview = std::make_shared<Snapshot>();
     preview->source = SnapshotSource::Preview;
     preview->method = "preview";

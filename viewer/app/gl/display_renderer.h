@@ -23,6 +23,12 @@ inline constexpr uint8_t kSliceTexelNone = 0;
 // (ToneCurve, kSliceTexelNone): the GLSL code uses these names, never numbers of its own.
 std::vector<ShaderDefine> displayShaderDefines();
 
+// The storage of a texture: its size and internal format (0 before any).
+struct TextureSize {
+  int width = 0, height = 0;
+  unsigned format = 0;
+};
+
 struct DisplayView {
   float zoom = 1.0f;               // screen pixels per image pixel
   float centerX = 0, centerY = 0;  // image position at the viewport centre
@@ -65,7 +71,8 @@ class DisplayRenderer {
   unsigned picture_ = 0, pictureFbo_ = 0;  // the composited picture, image-sized
   int width_ = 0, height_ = 0;
   int legendWidth_ = 0, legendHeight_ = 0;
-  size_t overlayTexels_ = 0, slicesTexels_ = 0;  // of the overlay and slices textures
+  TextureSize imageSize_, overlaySize_, legendSize_;  // their storage
+  size_t slicesTexels_ = 0;                           // of the slices texture
   // What the picture was composited from; a difference recomposites it.
   bool pictureStale_ = true;
   DisplaySettings pictureDisplay_;
