@@ -50,8 +50,13 @@ RenderSession::~RenderSession() {
 
 uint64_t RenderSession::start(MethodFactory factory, int rounds) {
   uint64_t generation = 0;
+  // The last snapshot is of the view being replaced: released now (outside the lock) rather
+  // than when the new method publishes, so two methods' snapshots are never alive together
+  // while the new one's first snapshot is built (at 1920x1080 one is a few hundred MB).
+  std::shared_ptr<const Snapshot> replaced;
   {
     std::lock_guard lock(mutex_);
+    replaced = std::move(latest_);
     factory_ = std::move(factory);
     ++generation_;
     state_ = State::Running;

@@ -51,7 +51,9 @@ class RenderSession {
   // The latest published snapshot (null before the first round completes) and a counter
   // that increases with every publication.
   // With `generation`, also the start the snapshot belongs to (a snapshot of the method
-  // before a restart may be the latest for a moment after it).
+  // before a restart may be the latest for a moment after it, published by a round that
+  // finished just as it restarted). A (re)start releases the session's latest snapshot: null
+  // until the new method publishes its first.
   std::shared_ptr<const Snapshot> latest(uint64_t* generation = nullptr) const;
   uint64_t version() const { return version_.load(); }
   // Asks for the inspection of pixel (x, y) (-1, -1: none). It is taken after every round,

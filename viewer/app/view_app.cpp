@@ -228,14 +228,16 @@ void ViewerApp::restart() {
   mseHistory_.clear();
   if (options_.preview) {
     // Drawn here, on the UI thread, so the new view shows within a frame whatever the
-    // render threads are doing; the method's first round replaces it.
+    // render threads are doing; the method's first round replaces it. The old view's
+    // snapshot goes first (the session has released it too), not after the preview is made.
+    snapshot_.reset();
     auto preview = std::make_shared<Snapshot>();
     preview->source = SnapshotSource::Preview;
     preview->method = "preview";
     preview->width = view->scene.settings.width;
     preview->height = view->scene.settings.height;
+    // Stored once, as raw: with no reconstruction the shown image is the raw one.
     preview->raw = renderPreview(*view, options_.shape.seed, previewBlock(preview->width));
-    preview->reconstructed = preview->raw;
     snapshot_ = view_.region.active() ? placeInRegion(std::move(preview)) : std::move(preview);
     overlayStale_ = texturesStale_ = true;
     firstPreviewSeconds_ = secondsBetween(restartTime_, Clock::now());
@@ -399,7 +401,7 @@ std::shared_ptr<const Snapshot> ViewerApp::placeInRegion(
     return out;
   };
   full->raw = place(snapshot->raw);
-  full->reconstructed = place(snapshot->reconstructed);
+  if (!snapshot->reconstructed.empty()) full->reconstructed = place(snapshot->reconstructed);
   // The maps cover the region only: zero outside.
   for (SnapshotMap& map : full->maps) {
     const size_t channels = map.channels();

@@ -84,9 +84,14 @@ void ViewerApp::drawFrame(int width, int height, bool ui, double deltaSeconds) {
   if (texturesStale_ && snapshot_) {
     const Image& shown = shownImage();
     renderer_->setImage(shown);
-    if (overlayImage_.available()) renderer_->setOverlay(overlayImage_.colors);
+    // Overlay and slices are uploaded only while they can be drawn (the slices with the
+    // Selected overlay): at 1920x1080 each full-size texture is tens of MB.
+    renderer_->setOverlay(overlayImage_.available() ? overlayImage_.colors : Image());
     renderer_->setLegend(legendStrip_);
-    renderer_->setSlices(*snapshot_);
+    if (options_.overlay == maps::Selected)
+      renderer_->setSlices(*snapshot_);
+    else
+      renderer_->clearSlices();
     texturesStale_ = false;
   }
   DisplayView view;

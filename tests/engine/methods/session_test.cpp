@@ -113,6 +113,25 @@ TEST(Session, StepRunsOneRoundThenPauses) {
   EXPECT_EQ(session.state(), RenderSession::State::Cancelled);
 }
 
+// A restart releases the old view's snapshot at once (a viewer never shows it), so two views'
+// snapshots are not alive together while the new method makes its first.
+TEST(Session, RestartReleasesTheOldViewsSnapshot) {
+  RenderSession session(2);
+  auto scene = cornell(16);
+  session.start(bpFactory(scene, 0, true));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!session.latest() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const std::weak_ptr<const Snapshot> old = session.latest();
+  ASSERT_FALSE(old.expired());
+  session.restart(bpFactory(scene, 4), 0);  // pauses before its first round
+  EXPECT_EQ(session.latest(), nullptr);
+  ASSERT_TRUE(session.wait(60));
+  EXPECT_EQ(session.state(), RenderSession::State::Paused);
+  EXPECT_EQ(session.latest(), nullptr);
+  EXPECT_TRUE(old.expired());
+}
+
 TEST(Session, RestartDropsTheOldMethodAndStartsFromTheCoarsePass) {
   RenderSession session(2);
   auto scene = cornell(16);

@@ -25,11 +25,24 @@ unsigned makeTexture() {
   return t;
 }
 
-void uploadRgb(unsigned texture, const Image& image) {
+// Linear RGB floats into `texture` (`size`: its storage's width and height), stored as
+// `format` (GL_RGB32F, or GL_RGB16F where half precision is enough: the display image, whose
+// 11-bit mantissa is far finer than the 8-bit picture made of it, in half the memory, which
+// llvmpipe keeps in the process). The storage is made only when the size changes, and the
+// pixels go in bands of rows, so the driver never holds a second full-size texture or a
+// full-size converted copy of the image at once.
+void uploadRgb(unsigned texture, TextureSize& size, const Image& image, GLenum format = GL_RGB32F) {
   glBindTexture(GL_TEXTURE_2D, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, image.width, image.height, 0, GL_RGB, GL_FLOAT,
-               image.pixels.data());
+  if (size.width != image.width || size.height != image.height || size.format != format) {
+    glTexImage2D(GL_TEXTURE_2D, 0, GLint(format), image.width, image.height, 0, GL_RGB, GL_FLOAT,
+                 nullptr);
+    size = {image.width, image.height, unsigned(format)};
+  }
+  constexpr int kBandRows = 64;
+  for (int y = 0; y < image.height; y += kBandRows)
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, y, image.width, std::min(kBandRows, image.height - y),
+                    GL_RGB, GL_FLOAT, &image.pixels[size_t(y) * size_t(image.width)]);
 }
 
 int uniform(unsigned program, const char* name) { return glGetUniformLocation(program, name); }
@@ -97,7 +110,7 @@ DisplayRenderer::~DisplayRenderer() {
 
 void DisplayRenderer::setImage(const Image& image) {
   if (image.empty()) return;
-  uploadRgb(image_, image);
+  uploadRgb(image_, imageSize_, image, GL_RGB16F);
   if (image.width != width_ || image.height != height_) {
     glBindTexture(GL_TEXTURE_2D, picture_);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
@@ -109,7 +122,11 @@ void DisplayRenderer::setImage(const Image& image) {
 }
 
 void DisplayRenderer::setOverlay(const Image& colors) {
-  if (!colors.empty()) uploadRgb(overlay_, colors);
+  if (!colors.empty()) {
+    uploadRgb(overlay_, overlaySize_, colors);
+  } else if (overlaySize_.width * overlaySize_.height > 1) {
+    setOverlay(Image(1, 1));  // no overlay shown: its texture need not keep a full image
+  }
   pictureStale_ = true;
 }
 
@@ -137,9 +154,17 @@ void DisplayRenderer::composite(const DisplayView& view) {
   pictureBlend_ = view.blend;
 }
 
+void DisplayRenderer::clearSlices() {
+  if (slicesTexels_ <= 1) return;
+  Snapshot empty;
+  empty.width = empty.height = 1;
+  setSlices(empty);
+}
+
 void DisplayRenderer::setSlices(const Snapshot& snapshot) {
   const int width = snapshot.width, height = snapshot.height;
   const size_t n = size_t(width) * height;
+  slicesTexels_ = n;
   std::vector<uint8_t> texels(4 * n, kSliceTexelNone);
   // The texel of a slice index: index + 1, kSliceTexelNone (0) for none (-1).
   static_assert(kSliceTexelNone == 0, "a slice index i is stored as i + 1");
@@ -164,7 +189,7 @@ void DisplayRenderer::setLegend(const Image& strip) {
   legendWidth_ = strip.width;
   legendHeight_ = strip.height;
   if (!strip.empty()) {
-    uploadRgb(legend_, strip);
+    uploadRgb(legend_, legendSize_, strip);
     glBindTexture(GL_TEXTURE_2D, legend_);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }

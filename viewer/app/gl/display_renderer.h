@@ -9,6 +9,7 @@
 #include "present/overlays.h"
 #include "viewer/app/gl/shader.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,12 @@ inline constexpr uint8_t kSliceTexelNone = 0;
 // The #defines the display shaders are compiled with, from the C++ enums and constants above
 // (ToneCurve, kSliceTexelNone): the GLSL code uses these names, never numbers of its own.
 std::vector<ShaderDefine> displayShaderDefines();
+
+// The storage of a texture: its size and internal format (0 before any).
+struct TextureSize {
+  int width = 0, height = 0;
+  unsigned format = 0;
+};
 
 struct DisplayView {
   float zoom = 1.0f;               // screen pixels per image pixel
@@ -45,10 +52,12 @@ class DisplayRenderer {
   DisplayRenderer& operator=(const DisplayRenderer&) = delete;
 
   void setImage(const Image& image);
-  void setOverlay(const Image& colors);  // linear RGB, the image's size
+  // Linear RGB, the image's size; empty: none shown (the texture shrinks to one texel).
+  void setOverlay(const Image& colors);
   // Per pixel: slice B, slice C (-1 none) and the selected flag of the last round, from the
   // snapshot's SliceB, SliceC and Selected maps (none where it lacks one).
   void setSlices(const Snapshot& snapshot);
+  void clearSlices();                  // none drawn: the texture shrinks to one texel
   void setLegend(const Image& strip);  // empty: none
 
   // Draws into the bound framebuffer's viewport of width x height (both > 0).
@@ -62,6 +71,8 @@ class DisplayRenderer {
   unsigned picture_ = 0, pictureFbo_ = 0;  // the composited picture, image-sized
   int width_ = 0, height_ = 0;
   int legendWidth_ = 0, legendHeight_ = 0;
+  TextureSize imageSize_, overlaySize_, legendSize_;  // their storage
+  size_t slicesTexels_ = 0;                           // of the slices texture
   // What the picture was composited from; a difference recomposites it.
   bool pictureStale_ = true;
   DisplaySettings pictureDisplay_;
