@@ -145,6 +145,7 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
     j[name + "s"] = times.size();
     j[name + "_ms_mean"] = times.empty() ? 0.0 : sum / double(times.size()) * 1e3;
     j[name + "_ms_max"] = worst * 1e3;
+    j[name + "_ms_last"] = times.empty() ? 0.0 : times.back() * 1e3;  // after the last restart
   };
   timesJson(app.firstPictureTimes(), "first_picture");
   timesJson(app.firstFullPictureTimes(), "first_full_picture");
