@@ -85,7 +85,7 @@ void LdMethod::runRound(const std::atomic<bool>* cancel) {
 }
 
 void LdMethod::updatePixelErrors(const std::atomic<bool>* cancel) {
-  if (!(shape_.noiseThreshold > 0) || rounds_ == 0) return;
+  if (!(shape_.noiseThreshold > 0) || !errorKnown()) return;
   if (!config_.filter) {
     pixelError_ = rawRelativeError(film_);
     return;
@@ -107,7 +107,7 @@ void LdMethod::updatePixelErrors(const std::atomic<bool>* cancel) {
 }
 
 double LdMethod::estimatedError() const {
-  if (rounds_ == 0) return NAN;
+  if (!errorKnown()) return NAN;
   if (!pixelError_.empty()) return meanOf(pixelError_);
   return config_.filter ? NAN : meanOf(rawRelativeError(film_));
 }

@@ -77,6 +77,10 @@ class LdMethod final : public ProgressiveMethod {
   std::vector<uint8_t> pixelMask_;  // empty: every pixel
   uint32_t drawnAtError_ = 0;
   void updatePixelErrors(const std::atomic<bool>* cancel);
+  // A pixel's error has an estimate once it has two samples: until every pixel has been drawn
+  // twice (no pixel stops before that), a noise threshold cannot call it converged. One sample
+  // has no variance, and its zero estimate once stopped every such run after its first round.
+  bool errorKnown() const { return drawn_ >= 2; }
   uint32_t drawn_ = 0;
   uint32_t lastAdded_ = 0;
   int rounds_ = 0;

@@ -27,6 +27,25 @@ TEST(LdMethod, TheImageDoesNotDependOnHowRoundsSplitTheSamples) {
   EXPECT_EQ(split->rays, whole->rays);
 }
 
+// One sample has no variance: a noise threshold must not call a pixel converged on it. With one
+// sample per round the run once stopped after its first round at any threshold, filtered or not.
+TEST(LdMethod, ANoiseThresholdWaitsForTwoSamplesAndThenForItsError) {
+  auto prepared = test::shippedScene("cornell", 24);
+  for (bool filter : {false, true}) {
+    RunShape shape = RunShape::progressive(1, 3, 512);
+    shape.noiseThreshold = 0.01f;
+    LdConfig config;
+    config.filter = filter;
+    auto method = makeLdMethod(*prepared, shape, config);
+    const auto snap = runToEnd(*method, 10000);
+    EXPECT_GT(snap->round, 2) << "filter " << filter;
+    EXPECT_GT(double(snap->keptSamples) / (24 * 24), 2.0) << "filter " << filter;
+    const double e = method->estimatedError();
+    // Stopped by the threshold (below it) or by the cap, never by an unknown error.
+    EXPECT_TRUE((e == e && e < 0.01) || snap->round >= 512) << "filter " << filter << ": " << e;
+  }
+}
+
 TEST(LdMethod, ABatchRunReportsProgressInRoundsAndRenderImageIsIt) {
   auto prepared = test::shippedScene("cornell", 16);
   LdMethod method(*prepared, RunShape::batch(40, 3));
