@@ -3,9 +3,12 @@
 // edges, `--spp` noisy samples per pixel. The sweep's cost does not depend on the values (it
 // has no branches on them), so a synthetic film times it as a render's would. Prints the
 // median of `--repeats` reconstructions, the bytes the reconstruction adds at its peak (the
-// process's peak RSS before and after) and whether any output is not finite.
+// process's peak RSS before and after) and whether any output is not finite. With --coarse,
+// the half-resolution reconstruction of a large image's first pictures (reconstructPicture
+// of a picture that is not final at --spp samples per pixel: recon::denoiseCoarse from
+// kCoarsePixels up, while --spp is at most the default coarse-recon-spp).
 //
-// Usage: penumbra_bench_recon [--size WxH] [--spp N] [--repeats R] [--threads T]
+// Usage: penumbra_bench_recon [--size WxH] [--spp N] [--repeats R] [--threads T] [--coarse]
 #include "methods/film.h"
 #include "methods/film_reconstruction.h"
 
@@ -74,6 +77,7 @@ void fill(Film& film, int spp, uint32_t seed) {
 int main(int argc, char** argv) {
   int width = 1280, height = 720, spp = 4, repeats = 5;
   int threads = int(std::thread::hardware_concurrency());
+  bool coarse = false;
   for (int i = 1; i < argc; ++i) {
     auto next = [&](const char* flag) -> const char* {
       if (i + 1 >= argc) {
@@ -93,9 +97,12 @@ int main(int argc, char** argv) {
       repeats = std::atoi(next("--repeats"));
     } else if (!std::strcmp(argv[i], "--threads")) {
       threads = std::atoi(next("--threads"));
+    } else if (!std::strcmp(argv[i], "--coarse")) {
+      coarse = true;
     } else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
       std::printf(
-          "usage: penumbra_bench_recon [--size WxH] [--spp N] [--repeats R] [--threads T]\n");
+          "usage: penumbra_bench_recon [--size WxH] [--spp N] [--repeats R] [--threads T] "
+          "[--coarse]\n");
       return 0;
     } else {
       std::fprintf(stderr, "penumbra_bench_recon: unknown argument '%s' (see --help)\n", argv[i]);
@@ -116,7 +123,9 @@ int main(int argc, char** argv) {
   for (int r = 0; r < repeats; ++r) {
     const auto start = std::chrono::steady_clock::now();
     const double cpuStart = cpuSeconds();
-    const recon::DenoiseResult result = reconstructFilm(film, config);
+    const recon::DenoiseResult result = coarse
+                                            ? reconstructPicture(film, config, double(spp), false)
+                                            : reconstructFilm(film, config);
     cpu.push_back(cpuSeconds() - cpuStart);
     seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

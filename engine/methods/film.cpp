@@ -124,7 +124,11 @@ vec3 Film::estimateVarianceOfMean(size_t p) const {
 
 Image Film::meanImage() const {
   Image image(width_, height_);
-  for (size_t p = 0; p < pixels_.size(); ++p) image.pixels[p] = vec3(estimate(p));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels_.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p < r.end(); ++p)
+                        image.pixels[p] = vec3(estimate(p));
+                    });
   return image;
 }
 
@@ -153,6 +157,8 @@ FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depth
     b.halfA.resize(n);
     b.halfB.resize(n);
   }
+  const bool meanOnly = !radiance && (parts & FilmBuffers::kMean);
+  if (meanOnly) b.mean.resize(n);
   if (features) {
     b.emission.resize(n);
     b.albedo.resize(n);
@@ -174,7 +180,10 @@ FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depth
                         // Variances of the means of the features: the sample variance over the
                         // count.
                         const float perSample = px.meanVarianceScale();
-                        if (radiance) radianceBuffers(p, b, i);
+                        if (radiance)
+                          radianceBuffers(p, b, i);
+                        else if (meanOnly)
+                          b.mean[i] = vec3(estimate(p));
                         if (features) {
                           b.emission[i] = px.emission;
                           b.albedo[i] = px.albedo;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "core/image.h"
+#include "core/large_pages.h"
 #include "trace/integrator.h"
 
 #include <glm/vec3.hpp>
@@ -74,7 +75,8 @@ struct FilmBuffers {
     kFeatures = 2u,
     kFeatureVariances = 4u,
     kEmissionVariance = 8u,
-    kAll = 15u
+    kAll = 15u,
+    kMean = 16u  // the mean alone (kRadiance has it too)
   };
   int width = 0, height = 0;
   std::vector<vec3> mean, variance, halfA, halfB, emission, emissionVariance;
@@ -128,7 +130,7 @@ class Film {
 
  private:
   int width_, height_;
-  std::vector<FilmPixel> pixels_;
+  std::vector<FilmPixel, LargePageAllocator<FilmPixel>> pixels_;  // (core/large_pages.h)
   int slicesPerSide_ = 0;
   std::vector<FilmSlice> slices_;
 

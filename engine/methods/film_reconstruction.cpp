@@ -83,6 +83,34 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
   return recon::denoise(inputOf(b), config, cancel, [&b] { releaseAllButMean(b); });
 }
 
+bool reconstructsCoarsely(const Film& film, const recon::DenoiseConfig& config,
+                          double samplesPerPixel, bool final) {
+  return !final && film.pixelCount() >= kCoarsePixels && config.coarseReconSpp > 0 &&
+         samplesPerPixel <= double(config.coarseReconSpp);
+}
+
+recon::DenoiseResult reconstructPicture(const Film& film, const recon::DenoiseConfig& config,
+                                        double samplesPerPixel, bool final,
+                                        const std::atomic<bool>* cancel) {
+  if (!reconstructsCoarsely(film, config, samplesPerPixel, final))
+    return reconstructFilm(film, config, cancel);
+  // Bands of the film's buffers in both passes: what the filter reads, then what the
+  // upsampling reads (the estimate and the features' means).
+  const float depthScale = film.depthScale();
+  FilmBuffers band;
+  auto source = [&](unsigned parts) {
+    return [&, parts](int first, int last) {
+      band = FilmBuffers{};
+      band = film.buffers(parts, first, last, depthScale);
+      return inputOf(band);
+    };
+  };
+  return recon::denoiseCoarse(film.width(), film.height(), config,
+                              int(std::max<size_t>(64, kBandPixels / size_t(film.width()))),
+                              source(kReconstructionParts),
+                              source(FilmBuffers::kMean | FilmBuffers::kFeatures), cancel);
+}
+
 float relativeErrorRegulariser(vec3 mean) {
   const float y = (mean.x + mean.y + mean.z) / 3.0f;
   return y * y + 0.01f;
@@ -128,15 +156,18 @@ void addFilmMaps(Snapshot& snap, const Film& film) {
   std::vector<float> albedo(3 * n), normal(3 * n), depth(n), emission(3 * n);
   // As FilmBuffers has them, read from the film (no copy of its buffers).
   const float depthScale = film.depthScale();
-  for (size_t p = 0; p < n; ++p) {
-    const FilmPixel& px = film[p];
-    for (int k = 0; k < 3; ++k) {
-      albedo[3 * p + k] = px.albedo[k];
-      normal[3 * p + k] = 0.5f + 0.5f * px.normal[k];
-      emission[3 * p + k] = px.emission[k];
-    }
-    depth[p] = px.depth * depthScale;
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p < r.end(); ++p) {
+                        const FilmPixel& px = film[p];
+                        for (int k = 0; k < 3; ++k) {
+                          albedo[3 * p + k] = px.albedo[k];
+                          normal[3 * p + k] = 0.5f + 0.5f * px.normal[k];
+                          emission[3 * p + k] = px.emission[k];
+                        }
+                        depth[p] = px.depth * depthScale;
+                      }
+                    });
   snap.addMap(maps::Albedo, "albedo", std::move(albedo), MapLegend::rgb());
   snap.addMap(maps::Normal, "normal (0.5 + 0.5 n)", std::move(normal), MapLegend::rgb());
   const float depthTop = std::max(1e-3f, percentileOf(depth, 0.99f));

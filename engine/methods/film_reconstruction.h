@@ -19,6 +19,24 @@ namespace penumbra {
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel = nullptr);
 
+// Images of at least this many pixels (512x512) reconstruct their first pictures at half
+// resolution (recon::denoiseCoarse): below it the full reconstruction takes a few tenths of a
+// second at most on two cores.
+inline constexpr size_t kCoarsePixels = size_t(1) << 18;
+
+// Whether a picture of `film` is reconstructed coarsely: it is not final, the image has at least
+// kCoarsePixels pixels, and samplesPerPixel (the samples traced so far over the pixels) is at
+// most config.coarseReconSpp. It depends on the samples only, never on time, so a picture still
+// depends only on the seed.
+bool reconstructsCoarsely(const Film& film, const recon::DenoiseConfig& config,
+                          double samplesPerPixel, bool final);
+
+// The reconstruction of a picture: recon::denoiseCoarse of the film when reconstructsCoarsely,
+// else reconstructFilm.
+recon::DenoiseResult reconstructPicture(const Film& film, const recon::DenoiseConfig& config,
+                                        double samplesPerPixel, bool final,
+                                        const std::atomic<bool>* cancel = nullptr);
+
 // Per pixel, the estimated relative squared error of the filtered pixel,
 // mse / (mean luminance^2 + 0.01) (RECONSTRUCTION.md §5; the metrics' relMSE uses the same
 // regulariser).

@@ -612,7 +612,9 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
         lastReconstruction_->output.empty()) {
       lastReconstruction_.reset();  // not held with the new one
       const auto start = Clock::now();
-      recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
+      // The first pictures of a large image at half resolution (reconstructPicture).
+      recon::DenoiseResult r = reconstructPicture(
+          film_, config_.denoise, double(s_.spent) / double(s_.pixelCount), snap->final, cancel);
       s_.times.reconstruct += secondsSince(start);
       lastReconstruction_ = std::move(r);
       reconstructedAtRound_ = s_.rounds;

@@ -146,7 +146,8 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
   snap->reconstructed = snap->raw;
   if (config_.filter && reconstructImage && rounds_ > 0) {
     const auto start = Clock::now();
-    recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
+    recon::DenoiseResult r =
+        reconstructPicture(film_, config_.denoise, double(drawn_), snap->final, cancel);
     addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
     snap->reconstructed = std::move(r.output);
     times_.reconstruct += secondsSince(start);

@@ -290,7 +290,11 @@ const ParamTable<DenoiseConfig>& denoiseParams() {
         .toggle(
             "cross-filter", "cross-filtering",
             "Weights from the pixel's own mean instead of the other half buffer",
-            "--no-cross-filter", [](auto& c) -> auto& { return c.crossFilter; });
+            "--no-cross-filter", [](auto& c) -> auto& { return c.crossFilter; })
+        .integer("coarse-recon-spp", "half-res recon up to spp",
+                 "A large image's pictures are reconstructed at half resolution while it has at "
+                 "most this many samples per pixel (0: never; a final image never is)",
+                 [](auto& c) -> auto& { return c.coarseReconSpp; }, 0, 1024, {0, 16});
     return t;
   }();
   return table;
@@ -431,7 +435,8 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
   return result;
 }
 
-// Rows [first, last) of an input (every span that is not empty).
+}  // namespace
+
 DenoiseInput rowsOf(const DenoiseInput& in, int first, int last) {
   DenoiseInput out = in;
   out.height = last - first;
@@ -444,8 +449,6 @@ DenoiseInput rowsOf(const DenoiseInput& in, int first, int last) {
   cut(out.depth), cut(out.depthVariance);
   return out;
 }
-
-}  // namespace
 
 DenoiseResult denoise(const DenoiseInput& in, const DenoiseConfig& config,
                       const std::atomic<bool>* cancel, const std::function<void()>& inputsRead) {

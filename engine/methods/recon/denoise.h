@@ -89,6 +89,10 @@ struct DenoiseConfig {
   // total spatial weight (about 4x fewer weights beyond it). A radius of denseRadius + 1 must
   // be even, so that its ring holds some of them.
   int denseRadius = 4;
+  // The first pictures of a large image (methods/film_reconstruction.h says which) are
+  // reconstructed at half resolution (denoiseCoarse) while its samples per pixel are at most
+  // this: 0 never. A final image is always reconstructed in full.
+  int coarseReconSpp = 2;
 };
 
 struct DenoiseResult {
@@ -145,6 +149,9 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
                               DenoiseDetail* detail, const std::atomic<bool>* cancel = nullptr,
                               const std::function<void()>& inputsRead = {});
 
+// Rows [first, last) of an input: every span that is not empty cut to them.
+DenoiseInput rowsOf(const DenoiseInput& in, int first, int last);
+
 // The input rows [first, last) of an image (all its columns; height last - first): every span
 // that the whole image's input would fill, holding those rows only. The spans must stay valid
 // until the next call.
@@ -163,5 +170,28 @@ DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config,
 // The same over an input held whole (its bands are sub-spans of it).
 DenoiseResult denoiseInBands(const DenoiseInput& in, const DenoiseConfig& config, int bandRows,
                              const std::atomic<bool>* cancel = nullptr);
+
+// A quick reconstruction for the first pictures of a large image, about a quarter of
+// denoise's cost: the input's 2x2 blocks are averaged (their variance of the mean is the sum of
+// the pixels' over 4^2), that image is denoised with coarseConfig(config), and each pixel takes
+// the filtered radiance over albedo of the blocks around it, interpolated bilinearly and
+// weighted by how alike their normal and depth are to its own (joint bilateral upsampling,
+// Kopf et al. 2007), times its own albedo, plus its own directly seen emission. Textures, lights
+// and silhouettes therefore stay at full resolution; only the illumination is filtered at half.
+// The result's scale is the block's, as the nearest radius of config's bank (a block's identity
+// is radius 1); its mse estimate and variance ratio are the block's. The result depends only on
+// the inputs and the configuration. `source` gives the input's rows [first, last) (every span
+// denoise reads), `upsampleSource` the same rows' mean, emission, albedo, normal and depth (the
+// others may be empty); both are asked for bands of bandRows rows (rounded up to even) in turn.
+DenoiseResult denoiseCoarse(int width, int height, const DenoiseConfig& config, int bandRows,
+                            const BandSource& source, const BandSource& upsampleSource,
+                            const std::atomic<bool>* cancel = nullptr);
+// The same over an input held whole.
+DenoiseResult denoiseCoarse(const DenoiseInput& in, const DenoiseConfig& config,
+                            const std::atomic<bool>* cancel = nullptr);
+// The configuration of denoiseCoarse's half-resolution image: each radius of the bank halved
+// (rounded up, duplicates dropped), as are the dense radius and the SURE box, so that every
+// window covers about what it does at full resolution.
+DenoiseConfig coarseConfig(const DenoiseConfig& config);
 
 }  // namespace penumbra::recon

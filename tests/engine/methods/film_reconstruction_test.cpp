@@ -62,5 +62,39 @@ TEST(FilmReconstruction, TwoSamplesPerPixelUseThePixelsOwnVariance) {
   }
 }
 
+TEST(FilmReconstruction, ALargeImagesFirstPicturesAreReconstructedAtHalfResolution) {
+  const recon::DenoiseConfig config;  // coarseReconSpp 2
+  const Film large(512, 512), small(511, 512);
+  EXPECT_TRUE(reconstructsCoarsely(large, config, 1.0, false));
+  EXPECT_TRUE(reconstructsCoarsely(large, config, 2.0, false));
+  EXPECT_FALSE(reconstructsCoarsely(large, config, 2.5, false)) << "past coarseReconSpp";
+  EXPECT_FALSE(reconstructsCoarsely(large, config, 1.0, true)) << "a final image is full";
+  EXPECT_FALSE(reconstructsCoarsely(small, config, 1.0, false)) << "below kCoarsePixels";
+  recon::DenoiseConfig never = config;
+  never.coarseReconSpp = 0;
+  EXPECT_FALSE(reconstructsCoarsely(large, never, 1.0, false));
+}
+
+TEST(FilmReconstruction, AHalfResolutionPictureIsTheCoarseReconstructionOfTheFilm) {
+  const Film film = noisyWall(512, 1, 9);
+  const recon::DenoiseConfig config;
+  const recon::DenoiseResult coarse = reconstructPicture(film, config, 1.0, false);
+  const FilmBuffers b = film.buffers(FilmBuffers::kAll);
+  recon::DenoiseInput in;
+  in.width = in.height = 512;
+  in.mean = b.mean, in.variance = b.variance, in.halfA = b.halfA, in.halfB = b.halfB;
+  in.emission = b.emission, in.albedo = b.albedo, in.albedoVariance = b.albedoVariance;
+  in.normal = b.normal, in.normalVariance = b.normalVariance;
+  in.depth = b.depth, in.depthVariance = b.depthVariance;
+  const recon::DenoiseResult direct = recon::denoiseCoarse(in, config);
+  ASSERT_EQ(coarse.output.pixels.size(), direct.output.pixels.size());
+  EXPECT_TRUE(coarse.output.pixels == direct.output.pixels) << "the film's bands, read twice";
+  EXPECT_LT(mseAgainstOne(coarse.output), 0.05 * mseAgainstOne(film.meanImage()));
+  // The final picture is the full reconstruction.
+  const recon::DenoiseResult last = reconstructPicture(film, config, 1.0, true);
+  EXPECT_TRUE(last.output.pixels == reconstructFilm(film, config).output.pixels);
+  EXPECT_FALSE(last.output.pixels == coarse.output.pixels);
+}
+
 }  // namespace
 }  // namespace penumbra
