@@ -234,6 +234,7 @@ void AllocationMethod::finishSnapshot(Snapshot& snap, bool, const std::atomic<bo
 std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
                                                      const std::atomic<bool>* cancel) {
   auto snap = std::make_shared<Snapshot>();
+  snap->withMaps = mapsWanted();
   snap->method = name_;
   snap->round = rounds_;
   snap->final = done();

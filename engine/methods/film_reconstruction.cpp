@@ -152,6 +152,7 @@ double meanOf(const std::vector<float>& values) {
 }
 
 void addFilmMaps(Snapshot& snap, const Film& film) {
+  if (!snap.withMaps) return;
   const size_t n = film.pixelCount();
   std::vector<float> albedo(3 * n), normal(3 * n), depth(n), emission(3 * n);
   // As FilmBuffers has them, read from the film (no copy of its buffers).
@@ -182,6 +183,7 @@ void addFilmMaps(Snapshot& snap, const Film& film) {
 
 void addFilterScaleMap(Snapshot& snap, const recon::DenoiseResult& result,
                        const recon::DenoiseConfig& config) {
+  if (!snap.withMaps) return;
   std::vector<std::string> labels{"identity"};
   for (int r : config.radii) labels.push_back("r=" + std::to_string(r));
   snap.addMap(maps::FilterScale, "filter window", asFloats(result.scale),
@@ -190,6 +192,7 @@ void addFilterScaleMap(Snapshot& snap, const recon::DenoiseResult& result,
 
 void addReconstructionMaps(Snapshot& snap, const recon::DenoiseResult& result,
                            const recon::DenoiseConfig& config, const std::vector<float>& error) {
+  if (!snap.withMaps) return;
   addFilterScaleMap(snap, result, config);
   const float top = std::max(1e-6f, percentileOf(error, 0.99f));
   snap.addMap(maps::ErrorEstimate, "relMSE (estimated, filtered)", error,

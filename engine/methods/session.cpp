@@ -121,6 +121,18 @@ std::string RenderSession::error() const {
   return error_;
 }
 
+void RenderSession::setMapsWanted(bool wanted) {
+  std::lock_guard lock(mutex_);
+  if (wanted == mapsWanted_) return;
+  mapsWanted_ = wanted;
+  // No round runs to bring them: the last round's snapshot is made again, with its maps.
+  if (wanted && state_ != State::Running && latest_ && !latest_->withMaps &&
+      latestGeneration_ == generation_) {
+    publishPending_ = true;
+    wake_.notify_all();
+  }
+}
+
 void RenderSession::inspect(int x, int y) {
   {
     std::lock_guard lock(mutex_);
@@ -197,8 +209,10 @@ void RenderSession::serveIdle(Worker& w, std::unique_lock<std::mutex>& lock) {
   }
   if (publishPending_ && w.method && w.methodGeneration == generation_) {
     const uint64_t generation = generation_;
+    const bool maps = mapsWanted_;
     cancelRound_ = false;  // a restart meanwhile cuts the reconstruction short
     lock.unlock();
+    w.method->setMapsWanted(maps);
     std::shared_ptr<Snapshot> snapshot;
     try {
       w.arena.execute([&] { snapshot = w.method->snapshot(true, &cancelRound_); });
@@ -234,6 +248,7 @@ RenderSession::RoundResult RenderSession::runRound(Worker& w, const RoundRequest
     }
     ProgressiveMethod& method = *w.method;
     method.setInspectedPixel(request.inspectX, request.inspectY);
+    method.setMapsWanted(request.mapsWanted);
     const bool stepping = request.stepsLeft > 0;
     w.arena.execute([&] {
       method.runRound(&cancelRound_);
@@ -286,7 +301,8 @@ void RenderSession::worker() {
       idle_.notify_all();
       continue;
     }
-    const RoundRequest request{generation_, factory_, inspectX_, inspectY_, stepsLeft_};
+    const RoundRequest request{generation_, factory_,   inspectX_,
+                               inspectY_,   stepsLeft_, mapsWanted_};
     cancelRound_ = false;
     lock.unlock();
     RoundResult r = runRound(w, request);

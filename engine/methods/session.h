@@ -60,6 +60,11 @@ class RenderSession {
   // and at once when no round runs; the method also records that pixel's candidates.
   void inspect(int x, int y);
   std::shared_ptr<const PixelInspection> inspection() const;  // null until one is taken
+  // Whether snapshots carry the method's debug maps (true by default; a viewer that shows no
+  // overlay turns them off: ProgressiveMethod::setMapsWanted). Turned on while no round runs
+  // and the latest snapshot has none, it publishes that round again with its maps; while
+  // rounds run, the next published snapshot has them.
+  void setMapsWanted(bool wanted);
   uint64_t inspectionVersion() const { return inspectionVersion_.load(); }
 
   // Blocks until the session is not Running (paused, finished, cancelled or failed) or
@@ -74,6 +79,7 @@ class RenderSession {
     MethodFactory factory;
     int inspectX, inspectY;
     int stepsLeft;
+    bool mapsWanted;
   };
   struct RoundResult {
     std::shared_ptr<Snapshot> snapshot;  // null when the publishing rule skipped it
@@ -108,6 +114,7 @@ class RenderSession {
   int inspectX_ = -1, inspectY_ = -1;
   bool inspectPending_ = false;  // a new pixel was asked for
   bool publishPending_ = false;  // a round ran whose snapshot the throttle skipped
+  bool mapsWanted_ = true;
   std::shared_ptr<const PixelInspection> inspection_;
   std::atomic<uint64_t> inspectionVersion_{0};
   std::thread thread_;

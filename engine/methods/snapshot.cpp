@@ -26,6 +26,7 @@ SnapshotMap& Snapshot::addMap(MapId id, std::string label, std::vector<float> va
     throw std::invalid_argument("Snapshot::addMap: map '" + std::string(id.name()) + "' has " +
                                 std::to_string(m.values.size()) + " values for a " +
                                 std::to_string(width) + "x" + std::to_string(height) + " image");
+  if (!withMaps) return notKept_ = std::move(m);
   for (SnapshotMap& existing : maps)
     if (existing.id == id) return existing = std::move(m);
   return maps.emplace_back(std::move(m));
@@ -52,6 +53,7 @@ float percentileOf(std::span<const float> values, float q) {
 
 void addSampleCountMaps(Snapshot& snap, const std::vector<uint32_t>& kept,
                         const std::vector<uint32_t>& traced) {
+  if (!snap.withMaps) return;
   for (auto [id, label, counts] : {std::tuple{MapId(maps::SampleCount), "kept spp", &kept},
                                    std::tuple{MapId(maps::TracedCount), "traced spp", &traced}}) {
     std::vector<float> values = asFloats(*counts);
@@ -61,6 +63,7 @@ void addSampleCountMaps(Snapshot& snap, const std::vector<uint32_t>& kept,
 }
 
 void addSelectedMap(Snapshot& snap, const std::vector<uint8_t>& selected) {
+  if (!snap.withMaps) return;
   snap.addMap(maps::Selected, "sampled last round", asFloats(selected),
               MapLegend::categorical({"no", "yes"}));
 }

@@ -186,6 +186,10 @@ struct Snapshot {
 
   // The method's debug maps, in the order it publishes them (a map it lacks is absent).
   std::vector<SnapshotMap> maps;
+  // Whether the method made its maps: false when they were not wanted
+  // (ProgressiveMethod::setMapsWanted; a viewer showing no overlay), and then `maps` is empty
+  // and addMap keeps nothing.
+  bool withMaps = true;
 
   uint64_t keptSamples = 0, tracedSamples = 0, rays = 0;
   uint64_t nonFiniteSamples = 0;  // NaN or infinite samples dropped
@@ -198,8 +202,9 @@ struct Snapshot {
 
   // The map `id`, or nullptr when the snapshot has none.
   const SnapshotMap* map(MapId id) const;
-  // Appends a map (replacing one of the same id). Throws std::invalid_argument when the
-  // values are not one per pixel (Rgb: three), or the id is none.
+  // Appends a map (replacing one of the same id); without maps (withMaps false), returns a
+  // map that is not kept. Throws std::invalid_argument when the values are not one per pixel
+  // (Rgb: three), or the id is none.
   SnapshotMap& addMap(MapId id, std::string label, std::vector<float> values, MapLegend legend);
   // The figure `key` (nullptr when the method has none).
   const SnapshotStat* stat(std::string_view key) const;
@@ -207,6 +212,9 @@ struct Snapshot {
   void addStat(std::string key, std::string text) {
     stats.push_back({std::move(key), 0, std::move(text)});
   }
+
+ private:
+  SnapshotMap notKept_;  // what addMap returns without maps
 };
 
 // The map `id` of a list of maps, or nullptr.

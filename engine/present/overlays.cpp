@@ -103,8 +103,12 @@ OverlayImage buildOverlay(const Snapshot& snapshot, MapId overlay, const Image& 
     out.values = m->values;
     out.legend = m->legend;
   } else {
+    // A snapshot made while no overlay was shown has no maps (Snapshot::withMaps): the next
+    // picture has them.
     out.unavailable =
-        "the " + snapshot.method + " method has no " + std::string(overlay.name()) + " map";
+        snapshot.withMaps
+            ? "the " + snapshot.method + " method has no " + std::string(overlay.name()) + " map"
+            : "the " + std::string(overlay.name()) + " map comes with the next picture";
     return out;
   }
   out.colors = mapColors(out.values, w, h, out.legend);

@@ -599,6 +599,7 @@ void ConsistentMethod::adaptiveRound(const std::atomic<bool>* cancel) {
 std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
                                                      const std::atomic<bool>* cancel) {
   auto snap = std::make_shared<Snapshot>();
+  snap->withMaps = mapsWanted();
   snap->method = "bp";
   snap->round = s_.rounds;
   snap->final = done();
@@ -632,7 +633,7 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
   }
   snap->raw = film_.meanImage();
   if (snap->reconstructed.empty()) snap->reconstructed = snap->raw;
-  if (s_.rounds > 0) {
+  if (s_.rounds > 0 && snap->withMaps) {
     // What ranks the pixels: the raw relMSE estimate scaled by the network's bias.
     std::vector<float> e = allocationError();
     const float top = std::max(1e-6f, percentileOf(e, 0.99f));
@@ -640,7 +641,7 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
                  MapLegend::sequential(0.0f, top));
   }
   addFilmMaps(*snap, film_);
-  if (usesNetworks()) {
+  if (usesNetworks() && snap->withMaps) {
     std::vector<float> er(s_.pixelCount), prediction(3 * s_.pixelCount);
     for (size_t p = 0; p < s_.pixelCount; ++p) {
       const PixelState& px = s_.pixel(p);

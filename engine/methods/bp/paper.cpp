@@ -91,6 +91,7 @@ std::shared_ptr<Snapshot> PaperMethod::snapshot(bool reconstructImage,
   const BpPaperConfig& config = config_;
   const size_t pixelCount = s_.pixelCount;
   auto snap = std::make_shared<Snapshot>();
+  snap->withMaps = mapsWanted();
   const auto start = Clock::now();
   snap->method = "bp";
   snap->round = s_.rounds;

@@ -137,6 +137,7 @@ PixelInspection LdMethod::inspect(int x, int y) const {
 std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
                                              const std::atomic<bool>* cancel) {
   auto snap = std::make_shared<Snapshot>();
+  snap->withMaps = mapsWanted();
   snap->method = config_.filter ? "ld:filtered" : "ld";
   snap->round = rounds_;
   snap->final = done();
@@ -148,7 +149,7 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
     const auto start = Clock::now();
     recon::DenoiseResult r =
         reconstructPicture(film_, config_.denoise, double(drawn_), snap->final, cancel);
-    addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
+    if (snap->withMaps) addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
     snap->reconstructed = std::move(r.output);
     times_.reconstruct += secondsSince(start);
   }

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <set>
 #include <stdexcept>
 
@@ -105,6 +106,37 @@ TEST(Factory, MakesTheMethodItsConfigurationBelongsTo) {
     const auto snap = method->snapshot(false);
     EXPECT_EQ(snap->method, m->name()) << m->title();
     EXPECT_EQ(snap->keptSamples, 4u * 8 * 8) << m->title();
+  }
+}
+
+// A viewer showing no overlay asks for no maps (ProgressiveMethod::setMapsWanted): every
+// method's snapshot then has none, and its images and counts are the same bit for bit.
+TEST(Factory, EveryMethodsSnapshotWithoutMapsHasTheSameImagesAndNoMaps) {
+  auto prepared = test::shippedScene("cornell", 12);
+  for (const MethodDescriptor* m : builtinMethods().methods()) {
+    auto method = makeMethod(*prepared, {RunShape::batch(4, 1), m->defaults()});
+    while (!method->done()) method->runRound(nullptr);
+    EXPECT_TRUE(method->mapsWanted()) << m->title();
+    const auto with = method->snapshot();
+    method->setMapsWanted(false);
+    const auto without = method->snapshot();
+    EXPECT_TRUE(with->withMaps) << m->title();
+    EXPECT_FALSE(with->maps.empty()) << m->title();
+    EXPECT_FALSE(without->withMaps) << m->title();
+    EXPECT_TRUE(without->maps.empty()) << m->title();
+    ASSERT_EQ(with->raw.pixels.size(), without->raw.pixels.size()) << m->title();
+    ASSERT_EQ(with->reconstructed.pixels.size(), without->reconstructed.pixels.size());
+    EXPECT_EQ(0, std::memcmp(with->raw.pixels.data(), without->raw.pixels.data(),
+                             with->raw.pixels.size() * sizeof(vec3)))
+        << m->title();
+    EXPECT_EQ(0,
+              std::memcmp(with->reconstructed.pixels.data(), without->reconstructed.pixels.data(),
+                          with->reconstructed.pixels.size() * sizeof(vec3)))
+        << m->title();
+    EXPECT_EQ(with->keptSamples, without->keptSamples) << m->title();
+    EXPECT_EQ(with->tracedSamples, without->tracedSamples) << m->title();
+    method->setMapsWanted(true);
+    EXPECT_EQ(method->snapshot()->maps.size(), with->maps.size()) << m->title();
   }
 }
 

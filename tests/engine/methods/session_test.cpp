@@ -205,6 +205,38 @@ TEST(Session, InspectsAPixelAfterRoundsAndWhilePaused) {
   EXPECT_EQ(session.state(), RenderSession::State::Paused);
 }
 
+// Maps only while wanted (a viewer showing no overlay): the rounds publish none; turned on once
+// the session has finished, the last round is published again with its maps, the same images.
+TEST(Session, PublishesMapsOnlyWhileTheyAreWanted) {
+  RenderSession session(2);
+  session.setMapsWanted(false);
+  session.start(bpFactory(cornell(12), 4));
+  ASSERT_TRUE(session.wait(120));
+  ASSERT_EQ(session.state(), RenderSession::State::Finished);
+  const auto without = session.latest();
+  ASSERT_NE(without, nullptr);
+  EXPECT_FALSE(without->withMaps);
+  EXPECT_TRUE(without->maps.empty());
+  const uint64_t version = session.version();
+  session.setMapsWanted(true);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (session.version() == version && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_EQ(session.version(), version + 1);
+  const auto with = session.latest();
+  EXPECT_TRUE(with->withMaps);
+  EXPECT_NE(with->map(maps::ErrorEstimate), nullptr);
+  EXPECT_EQ(with->round, without->round);
+  EXPECT_EQ(with->keptSamples, without->keptSamples);
+  ASSERT_EQ(with->reconstructed.pixels.size(), without->reconstructed.pixels.size());
+  for (size_t p = 0; p < with->reconstructed.pixels.size(); ++p)
+    ASSERT_EQ(with->reconstructed.pixels[p], without->reconstructed.pixels[p]) << p;
+  // Asked again, nothing more is published.
+  session.setMapsWanted(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(session.version(), version + 1);
+}
+
 // A camera drag restarts the session many times a second: each replaced method is freed as soon
 // as its round has returned, before the next is made, not once a successor has published.
 TEST(Session, ARestartFreesTheReplacedMethodAtOnce) {

@@ -42,7 +42,10 @@ void waitForRound(ViewerApp& app) {
 }
 
 TEST(RenderRegion, OnlyTheRegionRendersAndTheRestIsTheLastPictureDimmed) {
-  ViewerApp app(cornell());
+  // The sample counts' overlay is shown: the snapshots carry the maps.
+  ViewOptions options = cornell();
+  options.overlay = maps::SampleCount;
+  ViewerApp app(options);
   waitForRound(app);
   // What the viewer shows (the reconstruction; raw when there is none) stays, dimmed.
   const Image before = shownImage(*app.snapshot(), app.options());

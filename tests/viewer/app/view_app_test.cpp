@@ -118,6 +118,28 @@ TEST(ViewerApp, EveryRestartTimesItsFirstFullPicture) {
   EXPECT_EQ(app.firstFullPictureTimes().size(), 3u);
 }
 
+// Without an overlay the session makes no maps (they cost a tenth of a second a picture at
+// 1280x720); an overlay turned on after the run has ended shows once the last round is
+// published again with them.
+TEST(ViewerApp, AnOverlayTurnedOnLaterShowsWhenItsMapsArrive) {
+  ViewOptions o = cornell(16);
+  o.shape.spp = 2;
+  ViewerApp app(o);
+  ASSERT_TRUE(waitUntilFinished(app, 60));
+  ASSERT_NE(app.snapshot(), nullptr);
+  EXPECT_FALSE(app.snapshot()->withMaps);
+  const uint64_t kept = app.snapshot()->keptSamples;
+  app.setOverlay(maps::SampleCount);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!app.overlayImage().available() && std::chrono::steady_clock::now() < end) {
+    app.update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(app.overlayImage().available()) << app.overlayImage().unavailable;
+  EXPECT_TRUE(app.snapshot()->withMaps);
+  EXPECT_EQ(app.snapshot()->keptSamples, kept);  // the same round
+}
+
 // The panel's environment: a map lights the scene and stays when only the strength changes; a
 // map that cannot be read leaves everything as it was.
 TEST(ViewerApp, ThePanelChangesTheEnvironment) {
