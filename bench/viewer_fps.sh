@@ -12,7 +12,11 @@
 # environment map) at 1280x720, opened in the window with the default method and with LD.
 # Prints, for each: the time from opening to the first full picture (every pixel sampled,
 # reconstructed), the window's trace speed against a batch render's (kept samples per second),
-# and the shown picture's relMSE against a 64-spp LD render at 0.5, 1, 2 and 4 s.
+# and the shown picture's relMSE against an LD render of REF_SPP (default 64) at 0.5, 1, 2 and
+# 4 s, and the reference's own noise: half the relMSE between it and a second reference of
+# another seed. A figure near that floor is not resolved (raise REF_SPP).
+# With --asset --glb: the same for the asset's .glb opened directly (no floor, no set: lit by
+# the default environment), as an artist opens a model.
 #
 # With --trace-speed: the asset scene at 1280x720 with LD, the window's trace speed (kept spp
 # over the method's own seconds at its newest picture shown, the report's trace_spp_per_second)
@@ -22,11 +26,11 @@
 # without it
 # (PENUMBRA_FRAME_PACING=off: any change drawn at up to 60 fps, as before the pacing), in one run.
 # Usage: bench/viewer_fps.sh [SCENE] [--size 512x512] [--seconds 10]
-#        bench/viewer_fps.sh --asset
+#        bench/viewer_fps.sh --asset [--glb]
 #        bench/viewer_fps.sh --trace-speed [--seconds 30] [--drags 40]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=scenes/balls.json size=512x512 seconds=10 asset=0 speed=0 drags=40
+scene=scenes/balls.json size=512x512 seconds=10 asset=0 glb=0 speed=0 drags=40
 while [ $# -gt 0 ]; do
   case $1 in
     --trace-speed) speed=1; seconds=30; shift ;;
@@ -34,6 +38,7 @@ while [ $# -gt 0 ]; do
     --size) size=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --asset) asset=1; shift ;;
+    --glb) glb=1; shift ;;
     *) scene=$1; shift ;;
   esac
 done
@@ -83,8 +88,15 @@ if [ $asset -eq 1 ]; then
   trap 'rm -rf "$work"' EXIT
   scene=build/bench/asset_scene/scene.json size=1280x720
   [ -f "$scene" ] || scripts/make_asset_scene.sh >/dev/null
-  echo "asset scene $scene at $size: reference (LD, 64 spp)..."
-  build/penumbra render "$scene" --method ld --spp 64 --size $size -q -o "$work/ref.exr"
+  [ $glb -eq 1 ] && scene=build/bench/asset_scene/asset.glb
+  ref_spp=${REF_SPP:-64}
+  echo "asset scene $scene at $size: references (LD, $ref_spp spp, two seeds)..."
+  build/penumbra render "$scene" --method ld --spp "$ref_spp" --size $size -q -o "$work/ref.exr" \
+    2>/dev/null
+  build/penumbra render "$scene" --method ld --spp "$ref_spp" --seed 1 --size $size -q \
+    -o "$work/ref2.exr" 2>/dev/null
+  build/penumbra diff "$work/ref2.exr" "$work/ref.exr" | awk '$1 == "rel_mse" {print $2 / 2}' \
+    >"$work/floor.txt"
   # Opening, then a camera move away and back (an orbit drag and its reverse, so the camera is
   # the reference's again): the saves are 0.5-4 s after the move back, when the scene is loaded
   # and only the restart's work is left, as after any camera move.
@@ -106,7 +118,7 @@ if [ $asset -eq 1 ]; then
       fi >"$work/$method/relmse_$t.txt"
     done
   done
-  python3 - "$work" <<'PY'
+  python3 - "$work" "$ref_spp" <<'PY'
 import json, os, sys
 w = sys.argv[1]
 rel = {m: [float(open(os.path.join(w, m, "relmse_%s.txt" % t)).read() or "nan")
@@ -114,7 +126,7 @@ rel = {m: [float(open(os.path.join(w, m, "relmse_%s.txt" % t)).read() or "nan")
 for m in ("bp", "ld"):
     r = json.load(open(os.path.join(w, m, "report.json")))
     b = json.load(open(os.path.join(w, "batch_%s.json" % m)))
-    window_rate = r["kept_spp"] / max(r["wall_seconds"], 1e-9)
+    window_rate = r["trace_spp_per_second"]  # kept spp over the method's seconds, newest picture
     batch_rate = b["spp"] / max(b["time_seconds"], 1e-9)
     print("%-3s first full picture %6.0f ms after the move (%d restarts reached one: mean %.0f, "
           "worst %.0f ms, opening included); window trace speed %.2f x batch (%.2f vs %.2f spp/s)"
@@ -126,6 +138,8 @@ for m in ("bp", "ld"):
     print("%-3s                  " % m + "  ".join("%8.3g" % v for v in rel[m]))
 print("bp / ld               " + "  ".join("%8.2f" % (a / b) if b == b and b > 0 else "     nan"
                                            for a, b in zip(rel["bp"], rel["ld"])))
+print("the reference's own relMSE (%s spp): about %.3g; figures near it are not resolved"
+      % (sys.argv[2], float(open(os.path.join(w, "floor.txt")).read())))
 PY
   exit 0
 fi

@@ -1,4 +1,5 @@
 // Entry point of the `penumbra` executable: dispatches to the subcommands.
+#include "cli/allocation.h"
 #include "cli/commands.h"
 #include "cli/plan.h"
 #include "scene/scene.h"
@@ -6,21 +7,8 @@
 #include <cstdio>
 #include <string>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 int main(int argc, char** argv) {
-#if defined(__GLIBC__)
-  // Every block of 128 KiB or more is its own mapping, returned to the system when freed. By
-  // default glibc raises this threshold to the largest block freed so far (up to 32 MiB), so
-  // the per-pixel planes of a large image (a reconstruction's bands, a snapshot's maps) are
-  // then carved from the heap and stay resident after they are freed: measured on the asset
-  // scene at 1920x1080, the headless view's peak fell from 1,098,240 to 1,022,132 KiB with a
-  // fixed threshold, and the window's soak (bench/soak.sh --asset) stopped growing after
-  // warm-up (13 % without it).
-  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
-#endif
+  penumbra::configureAllocation();  // first: glibc's mmap threshold
   CLI::App app{"Penumbra: progressive Monte Carlo preview renderer with adaptive sampling"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
