@@ -112,15 +112,15 @@ int main(int argc, char** argv) {
         round[size_t(k)].push_back(since(start));
         start = Clock::now();
         auto s = m->snapshot();
-        // (--profile-snapshots: the same snapshot again, for a profiler; not timed.)
-        for (int extra = 0; extra < profileSnapshots; ++extra) s = m->snapshot();
         snap[size_t(k)].push_back(since(start));
         recon[size_t(k)].push_back(s->times.reconstruct - reconstructed);
-        reconstructed = s->times.reconstruct;
         PhaseTimes own = s->times;
         own.trace -= last.trace, own.train -= last.train, own.select -= last.select;
         own.reconstruct -= last.reconstruct + recon[size_t(k)].back();
         phases[size_t(k)].push_back(own);
+        // (--profile-snapshots: the same snapshot again, for a profiler; not timed.)
+        for (int extra = 0; extra < profileSnapshots; ++extra) s = m->snapshot();
+        reconstructed = s->times.reconstruct;
         last = s->times;
         spp[size_t(k)].push_back(double(s->keptSamples) / (double(width) * height));
         if (r == 0)

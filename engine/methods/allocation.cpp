@@ -243,8 +243,9 @@ std::shared_ptr<Snapshot> AllocationMethod::snapshot(bool reconstructImage,
   snap->raw = Image(width_, height_);
   for (size_t p = 0; p < pixelCount_; ++p) snap->raw.pixels[p] = pixelMean(p);
   // A score has no fixed scale: its colour range ends at its 99th percentile.
-  snap->addMap(maps::ErrorEstimate, scoreName(), scores_,
-               MapLegend::sequential(0.0f, percentileOf(scores_, 0.99f)));
+  if (snap->withMaps)
+    snap->addMap(maps::ErrorEstimate, scoreName(), scores_,
+                 MapLegend::sequential(0.0f, percentileOf(scores_, 0.99f)));
   addSelectedMap(*snap, selected_);
   addSampleCountMaps(*snap, kept_, drawn_);
   for (uint32_t k : kept_) snap->keptSamples += k;

@@ -154,10 +154,12 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
     times_.reconstruct += secondsSince(start);
   }
   addFilmMaps(*snap, film_);
-  addSelectedMap(*snap, std::vector<uint8_t>(pixelCount_, 1));
   std::vector<uint32_t> kept(pixelCount_);
   for (size_t p = 0; p < pixelCount_; ++p) kept[p] = film_[p].count;
-  addSampleCountMaps(*snap, kept, std::vector<uint32_t>(pixelCount_, drawn_));
+  if (snap->withMaps) {  // (the constant maps are not even made without)
+    addSelectedMap(*snap, std::vector<uint8_t>(pixelCount_, 1));
+    addSampleCountMaps(*snap, kept, std::vector<uint32_t>(pixelCount_, drawn_));
+  }
   for (uint32_t c : kept) snap->keptSamples += c;
   snap->tracedSamples = uint64_t(drawn_) * pixelCount_;
   snap->rays = counters_.rays;
