@@ -162,13 +162,22 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const Image> map, float stren
     rowCdf_[j + 1] = total > 0 ? float(acc / total) : float(j + 1) / float(h);
   }
   rowCdf_[h] = 1.0f;
+  // A guide table, so that a draw's row is found by a short forward scan rather than a binary
+  // search (whose branches mispredict): entry k is the row of (k - 1) / height, at or before
+  // the row of any u with int(u * height) = k (such a u exceeds (k - 1) / height by far more
+  // than rounding).
+  rowGuide_.resize(h + 1);
+  rowGuide_[0] = 0;
+  for (size_t k = 1; k <= h; ++k)
+    rowGuide_[k] = findInterval(rowCdf_.data(), height_, float(double(k - 1) / double(h)));
   if (!(total > 0)) return;
   // A texel's probability over its solid angle: its luminance over the total.
-  for (size_t c = 0; c < h * w; ++c) cells_[c].pdf = float(double(cellLuminance[c]) / total);
+  pdfs_.resize(h * w);
+  for (size_t c = 0; c < h * w; ++c) pdfs_[c] = float(double(cellLuminance[c]) / total);
   for (size_t j = 0; j < h; ++j)
     for (size_t i = 0; i < w; ++i) {
       AliasEntry& e = cells_[j * w + i];
-      e.aliasPdf = cells_[j * w + e.alias].pdf;
+      e.aliasPdf = pdfs_[j * w + e.alias];
     }
 }
 
@@ -201,7 +210,7 @@ vec3 EnvironmentLight::lookup(float u, float t) const {
 
 vec3 EnvironmentLight::radiance(vec3 direction, float* pdf) const {
   if (constant()) {
-    if (pdf) *pdf = cells_[0].pdf;
+    if (pdf) *pdf = pdfs_.empty() ? 0.0f : pdfs_[0];
     return map_->pixels[0] * strength_;
   }
   const glm::vec2 ut = directionToEquirect(toMap(direction));
@@ -214,12 +223,21 @@ float EnvironmentLight::cellPdf(glm::vec2 ut) const {
   // The texel under the coordinates; rows are equal steps of theta, so t finds the row.
   const int j = std::clamp(int(ut.y * float(height_)), 0, height_ - 1);
   const int i = std::clamp(int(ut.x * float(width_)), 0, width_ - 1);
-  return cells_[size_t(j) * size_t(width_) + size_t(i)].pdf;
+  return pdfs_[size_t(j) * size_t(width_) + size_t(i)];
+}
+
+int EnvironmentLight::rowOf(float u) const {
+  // findInterval's answer, the last row whose cdf is at most u, found forward from the guide
+  // (the cdf is non-decreasing).
+  if (!(u > 0.0f)) return findInterval(rowCdf_.data(), height_, u);
+  int j = rowGuide_[size_t(std::min(int(u * float(height_)), height_))];
+  while (j + 1 < height_ && rowCdf_[size_t(j) + 1] <= u) ++j;
+  return j;
 }
 
 bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf, vec3* radiance) const {
   if (black()) return false;
-  const int j = findInterval(rowCdf_.data(), height_, u.y);
+  const int j = rowOf(u.y);
   const float r0 = rowCdf_[size_t(j)], r1 = rowCdf_[size_t(j) + 1];
   const float vRemapped = r1 > r0 ? std::clamp((u.y - r0) / (r1 - r0), 0.0f, 1.0f) : 0.5f;
   // The column from the row's alias table; the draw's leftover fraction places the direction
@@ -227,12 +245,13 @@ bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf, vec3* ra
   const float x = std::clamp(u.x, 0.0f, 1.0f) * float(width_);
   const int slot = std::min(int(x), width_ - 1);
   const float f = std::clamp(x - float(slot), 0.0f, 1.0f);
-  const AliasEntry& e = cells_[size_t(j) * size_t(width_) + size_t(slot)];
+  const size_t cell = size_t(j) * size_t(width_) + size_t(slot);
+  const AliasEntry& e = cells_[cell];
   int i = slot;
   float uRemapped;
   if (f < e.keep) {
     uRemapped = f / e.keep;
-    pdf = e.pdf;
+    pdf = pdfs_[cell];
   } else {
     i = int(e.alias);
     uRemapped = std::min((f - e.keep) / (1.0f - e.keep), 1.0f);
@@ -254,9 +273,10 @@ bool EnvironmentLight::sample(glm::vec2 u, vec3& direction, float& pdf, vec3* ra
 
 void EnvironmentLight::prefetch(glm::vec2 u) const {
   if (black() || constant()) return;
-  const int j = findInterval(rowCdf_.data(), height_, u.y);
+  const int j = rowOf(u.y);
   const int slot = std::min(int(std::clamp(u.x, 0.0f, 1.0f) * float(width_)), width_ - 1);
   __builtin_prefetch(&cells_[size_t(j) * size_t(width_) + size_t(slot)]);
+  __builtin_prefetch(&pdfs_[size_t(j) * size_t(width_) + size_t(slot)]);
   // The bilinear lookup reads the texel's row and one beside it.
   const int up = std::max(j - 1, 0), down = std::min(j + 1, height_ - 1);
   __builtin_prefetch(&map_->at(slot, j));
@@ -265,7 +285,7 @@ void EnvironmentLight::prefetch(glm::vec2 u) const {
 }
 
 float EnvironmentLight::pdf(vec3 direction) const {
-  if (constant()) return cells_[0].pdf;
+  if (constant()) return pdfs_.empty() ? 0.0f : pdfs_[0];
   return cellPdf(directionToEquirect(toMap(direction)));
 }
 

@@ -123,14 +123,14 @@ vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texe
   const float y = (1.0f - (uv.y - std::floor(uv.y))) * float(h) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
-  const auto at = [&](int ix, int iy) {
-    ix = ((ix % w) + w) % w;
-    iy = ((iy % h) + h) % h;
-    return texel(level.offset + (size_t(iy) * size_t(w) + size_t(ix)) * size_t(channels));
-  };
-  const int ix = int(fx), iy = int(fy);
-  return (1 - ty) * ((1 - tx) * at(ix, iy) + tx * at(ix + 1, iy)) +
-         ty * ((1 - tx) * at(ix, iy + 1) + tx * at(ix + 1, iy + 1));
+  // The four texels wrap: one division each way for the first, the next one by a compare.
+  const int x0 = ((int(fx) % w) + w) % w, y0 = ((int(fy) % h) + h) % h;
+  const int x1 = x0 + 1 == w ? 0 : x0 + 1, y1 = y0 + 1 == h ? 0 : y0 + 1;
+  const size_t row0 = level.offset + size_t(y0) * size_t(w) * size_t(channels);
+  const size_t row1 = level.offset + size_t(y1) * size_t(w) * size_t(channels);
+  const size_t c0 = size_t(x0) * size_t(channels), c1 = size_t(x1) * size_t(channels);
+  return (1 - ty) * ((1 - tx) * texel(row0 + c0) + tx * texel(row0 + c1)) +
+         ty * ((1 - tx) * texel(row1 + c0) + tx * texel(row1 + c1));
 }
 
 // Calls f with the function that reads a texel of `image` as linear RGB.

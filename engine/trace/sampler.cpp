@@ -26,6 +26,7 @@ void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t st
   }
   sampleIndex_ = sampleIndex;
   dimension_ = kFirstIntegratorDim;
+  peekedDimension_ = kNoPeek;
   // Each sample gets a state hashed from the pixel and its index: PCG streams that share a
   // state and differ only in their increment (the sample index) are correlated, and a pixel's
   // mean then strays far more than its variance says.
@@ -95,12 +96,17 @@ glm::vec2 PixelSampler::next2D() {
     const float a = rng_.nextFloat();
     return {a, rng_.nextFloat()};
   }
+  if (dimension_ == peekedDimension_) {
+    ++dimension_;
+    return peeked_;
+  }
   return lowDiscrepancy2D(dimension_++);
 }
 
 bool PixelSampler::peek2D(uint32_t ahead, glm::vec2& value) {
   if (kind_ == SamplerKind::Independent) return false;
-  value = lowDiscrepancy2D(dimension_ + ahead);
+  peekedDimension_ = dimension_ + ahead;
+  value = peeked_ = lowDiscrepancy2D(peekedDimension_);
   return true;
 }
 

@@ -142,6 +142,11 @@ class PixelSampler {
   uint64_t pixelKey_ = 0;
   uint32_t sampleIndex_ = 0;
   uint32_t dimension_ = 0;
+  // The last peeked 2D value and its dimension (kNoPeek: none), which next2D hands out
+  // rather than computing it twice; valid for the current sample only.
+  static constexpr uint32_t kNoPeek = ~0u;
+  uint32_t peekedDimension_ = kNoPeek;
+  glm::vec2 peeked_{0.0f};
   int px_ = 0, py_ = 0;
   uint32_t stream_ = 0;
   bool havePixel_ = false;

@@ -226,5 +226,42 @@ TEST(Sampler, RadicalInversesMatchHandValues) {
   EXPECT_FLOAT_EQ(sobol2(3, 0), 0.25f);
 }
 
+// peek2D shows the value a later next2D returns, and peeking (which keeps the peeked value for
+// that draw) changes no draw: the same sequence comes out with and without peeks, across
+// samples and pixels, and a peek left undrawn does not leak into the next sample.
+TEST(Sampler, PeekingChangesNoDraw) {
+  PixelSampler plain(SamplerKind::LowDiscrepancy, 7, 16),
+      peeking(SamplerKind::LowDiscrepancy, 7, 16);
+  for (int pixel = 0; pixel < 3; ++pixel)
+    for (uint32_t i = 0; i < 16; ++i) {
+      plain.startSample(pixel, 2 * pixel, i);
+      peeking.startSample(pixel, 2 * pixel, i);
+      for (int bounce = 0; bounce < 4; ++bounce) {
+        glm::vec2 peeked;
+        ASSERT_TRUE(peeking.peek2D(1, peeked));
+        if (i % 4 == 3 && bounce == 3) break;  // a peek that is never drawn
+        EXPECT_EQ(plain.next1D(), peeking.next1D());
+        const glm::vec2 a = plain.next2D(), b = peeking.next2D();
+        EXPECT_EQ(a, b);
+        EXPECT_EQ(b, peeked);
+        EXPECT_EQ(plain.next2D(), peeking.next2D());
+      }
+      EXPECT_EQ(plain.next2D(), peeking.next2D());
+    }
+  // A peek, then a new sample of another pixel drawn without peeks: the peeked dimension's
+  // draw is the new sample's own.
+  glm::vec2 stale;
+  peeking.startSample(5, 5, 3);
+  ASSERT_TRUE(peeking.peek2D(1, stale));
+  plain.startSample(6, 5, 3);
+  peeking.startSample(6, 5, 3);
+  EXPECT_EQ(plain.next1D(), peeking.next1D());
+  EXPECT_EQ(plain.next2D(), peeking.next2D());
+  PixelSampler independent(SamplerKind::Independent, 7, 16);
+  glm::vec2 unused;
+  independent.startSample(0, 0, 0);
+  EXPECT_FALSE(independent.peek2D(1, unused));
+}
+
 }  // namespace
 }  // namespace penumbra
