@@ -94,4 +94,22 @@ RayDifferentials cameraRayDifferentials(const CameraFrame& frame, const CameraSa
   return {rx.origin, rx.direction, ry.origin, ry.direction};
 }
 
+bool approximateRayDifferentials(const CameraFrame& f, vec3 point, RayDifferentials& out) {
+  const vec3 v = point - f.eye;
+  const float z = glm::dot(v, f.forward);
+  if (!(z > 1e-6f * glm::length(v)) || !(f.halfWidth > 0.0f) || !(f.halfHeight > 0.0f))
+    return false;
+  // generateRay's film point, inverted: the point's place on the plane at distance 1.
+  const float ndcX = glm::dot(v, f.right) / (z * f.halfWidth);
+  const float ndcY = glm::dot(v, f.upAxis) / (z * f.halfHeight);
+  CameraSample s;
+  s.imageX = 0.5f * (ndcX + 1.0f) * float(f.fullWidth) - float(f.offsetX);
+  s.imageY = 0.5f * (1.0f - ndcY) * float(f.fullHeight) - float(f.offsetY);
+  s.lensU = s.lensV = 0.5f;  // the lens centre: the rays start at the eye
+  s.time = 0.5f;
+  if (!std::isfinite(s.imageX) || !std::isfinite(s.imageY)) return false;
+  out = cameraRayDifferentials(f, s);
+  return true;
+}
+
 }  // namespace penumbra

@@ -63,6 +63,11 @@ struct RayDifferentials {
   vec3 yOrigin, yDirection;
 };
 RayDifferentials cameraRayDifferentials(const CameraFrame& frame, const CameraSample& sample);
+// The differentials the camera would give a point it saw directly: those of the film point
+// that the point projects to, through the lens centre. pbrt-v4's approximation for the hits of
+// rays that carry none (a bounce's), so that their texture lookups take the footprint of about
+// one pixel at the point's distance. False for a point behind the camera (or in its plane).
+bool approximateRayDifferentials(const CameraFrame& frame, vec3 point, RayDifferentials& out);
 
 // Concentric mapping of [0,1)^2 onto the unit disk (Shirley-Chiu).
 glm::vec2 sampleUnitDisk(float u, float v);

@@ -154,7 +154,7 @@ void applyNormalMap(const Scene& scene, const Material& material, vec3 dpdu, vec
 }  // namespace
 
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
-                     const RayDifferentials* differentials) {
+                     const RayDifferentials* differentials, const CameraFrame* approximateFrom) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
   vec3 p0, p1, p2;
@@ -187,6 +187,10 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
       !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
                         mesh.uvs[idx[2]] - mesh.uvs[idx[0]], dpdu, dpdv))
     return s;
+  RayDifferentials approximate;
+  if (!differentials && approximateFrom &&
+      approximateRayDifferentials(*approximateFrom, s.point, approximate))
+    differentials = &approximate;
   if (differentials && differentialOffsets(*differentials, s.point, s.geometricNormal, dpdx, dpdy))
     s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
   if (material.normalTexture >= 0) applyNormalMap(scene, material, dpdu, dpdv, s);
@@ -200,7 +204,9 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   const int maxDepth = scene.settings.maxDepth;
   Ray ray = generateRay(prepared.camera, sample);
   // A footprint of one pixel chooses the mip levels of the first hit's image textures; the
-  // hits of later rays read level 0.
+  // hits of later rays take the footprint the camera would give them if it saw them directly
+  // (pbrt-v4's approximation): coarser levels for far hits, which are smoother and stay in
+  // cache, where level 0 read at random missed it at every lookup.
   const bool footprints = !scene.images.empty();
   const RayDifferentials differentials =
       footprints ? cameraRayDifferentials(prepared.camera, sample) : RayDifferentials{};
@@ -237,7 +243,8 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       break;
     }
     const SurfaceHit surface =
-        surfaceAt(scene, hit, ray.time, depth == 0 && footprints ? &differentials : nullptr);
+        surfaceAt(scene, hit, ray.time, depth == 0 && footprints ? &differentials : nullptr,
+                  depth > 0 && footprints ? &prepared.camera : nullptr);
     const Material& material = scene.materials[surface.materialId];
     const vec3 wo = -ray.direction;
 

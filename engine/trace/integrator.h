@@ -75,11 +75,14 @@ struct SurfaceHit {
   vec3 geometricNormal;  // unit, counter-clockwise side
   vec3 shadingNormal;    // unit, same side as geometricNormal
   vec2 uv;
-  UvFootprint footprint;  // uv across one pixel (camera rays' hits); zero: textures' level 0
+  UvFootprint footprint;  // uv across about one pixel; zero: textures' level 0
   uint32_t materialId = 0;
 };
-// With a camera ray's differentials, the hit's footprint for its texture lookups.
+// With a camera ray's differentials, the hit's footprint for its texture lookups; without
+// them but with the camera, the footprint the camera would give the point
+// (approximateRayDifferentials); with neither, none.
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
-                     const RayDifferentials* differentials = nullptr);
+                     const RayDifferentials* differentials = nullptr,
+                     const CameraFrame* approximateFrom = nullptr);
 
 }  // namespace penumbra

@@ -408,10 +408,15 @@ TEST(Integrator, CameraRaysFirstHitsTakeTheFootprintOfOnePixel) {
     EXPECT_NEAR(first.footprint.dy.y, -pixelUv, 1e-3f * pixelUv) << "image y runs down v";
     EXPECT_NEAR(textureMipLevel(prepared->scene.images[0], first.footprint.dx, first.footprint.dy),
                 std::log2(64 * pixelUv), 1e-3f);
-    // A hit without differentials (a bounce) reads level 0.
-    const SurfaceHit later = surfaceAt(prepared->scene, hit, ray.time);
-    EXPECT_EQ(later.footprint.dx, vec2(0.0f));
-    EXPECT_EQ(later.footprint.dy, vec2(0.0f));
+    // A hit without differentials or a camera reads level 0.
+    const SurfaceHit bare = surfaceAt(prepared->scene, hit, ray.time);
+    EXPECT_EQ(bare.footprint.dx, vec2(0.0f));
+    EXPECT_EQ(bare.footprint.dy, vec2(0.0f));
+    // A bounce's hit takes the footprint the camera would give it: here, seen head on, the
+    // camera ray's own.
+    const SurfaceHit later = surfaceAt(prepared->scene, hit, ray.time, nullptr, &prepared->camera);
+    EXPECT_NEAR(later.footprint.dx.x, pixelUv, 1e-3f * pixelUv);
+    EXPECT_NEAR(later.footprint.dy.y, -pixelUv, 1e-3f * pixelUv);
   }
 }
 
