@@ -134,5 +134,32 @@ TEST(Camera, RegionRaysAreTheFullImagesRaysOffset) {
   EXPECT_THROW(makeCameraFrame(r, 50, 40), std::invalid_argument);
 }
 
+TEST(Camera, APointsApproximateDifferentialsAreThoseOfTheCameraRayThatSeesIt) {
+  // A point off the image's centre, 7 from the camera along a tilted ray, in a region of the
+  // image (the offsets matter): its approximate differentials are the camera's for the film
+  // point it projects to, through the lens centre, so its footprint on any plane is the one a
+  // camera ray would give it.
+  Camera camera = testCamera();
+  camera.lensRadius = 0.3f;
+  camera.focusDistance = 8.0f;
+  camera.regionX = 40, camera.regionY = 30, camera.fullWidth = 200, camera.fullHeight = 100;
+  const CameraFrame frame = makeCameraFrame(camera, 100, 60);
+  const CameraSample sample{37.25f, 21.5f, 0.5f, 0.5f, 0.5f};
+  const Ray ray = generateRay(frame, sample);
+  const vec3 point = ray.origin + 7.0f * ray.direction;
+  RayDifferentials approximate;
+  ASSERT_TRUE(approximateRayDifferentials(frame, point, approximate));
+  const RayDifferentials exact = cameraRayDifferentials(frame, sample);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(approximate.xOrigin[i], exact.xOrigin[i], 1e-5f);
+    EXPECT_NEAR(approximate.yOrigin[i], exact.yOrigin[i], 1e-5f);
+    EXPECT_NEAR(approximate.xDirection[i], exact.xDirection[i], 1e-4f);
+    EXPECT_NEAR(approximate.yDirection[i], exact.yDirection[i], 1e-4f);
+  }
+  // Behind the camera, or in its plane: none.
+  EXPECT_FALSE(approximateRayDifferentials(frame, camera.eye + (camera.eye - point), approximate));
+  EXPECT_FALSE(approximateRayDifferentials(frame, camera.eye, approximate));
+}
+
 }  // namespace
 }  // namespace penumbra
