@@ -432,11 +432,35 @@ void checkPngChunks(const std::string& path, const std::vector<unsigned char>& b
   }
 }
 
-// The file's bytes once its PNG chunks and its header's size are checked; stb's view of its
-// size and channels in width, height and channels.
+bool startsWith(const std::vector<unsigned char>& bytes, const char* magic, size_t length) {
+  return bytes.size() >= length && std::memcmp(bytes.data(), magic, length) == 0;
+}
+
+// stb_image decodes by content, not by name, and also reads PNM, PSD, GIF and Softimage PIC,
+// which Penumbra does not list. Its PNM reader hands back an 8-bit buffer for a 16-bit file
+// whose channel count it converts, which the 16-bit path then reads past (found by fuzzing):
+// such contents are refused by their magic, whatever the file's extension says.
+void refuseUnlistedContents(const std::string& path, const std::vector<unsigned char>& bytes) {
+  const char* format = nullptr;
+  if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '7')
+    format = "a PNM (PBM/PGM/PPM) image";
+  else if (startsWith(bytes, "8BPS", 4))
+    format = "a Photoshop image";
+  else if (startsWith(bytes, "GIF8", 4))
+    format = "a GIF image";
+  else if (startsWith(bytes, "\x53\x80\xf6\x34", 4))
+    format = "a Softimage PIC image";
+  if (format)
+    fail(path, std::string("its contents are ") + format +
+                   ", which Penumbra does not read (readable: " + kReadableFormats + ")");
+}
+
+// The file's bytes once its contents' format, PNG chunks and header's size are checked; stb's
+// view of its size and channels in width, height and channels.
 std::vector<unsigned char> readStbFile(const std::string& path, int& width, int& height,
                                        int& channels) {
   std::vector<unsigned char> bytes = readWholeFile(path);
+  refuseUnlistedContents(path, bytes);
   checkPngChunks(path, bytes);
   if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail(path, "file too large");
   if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels))

@@ -281,6 +281,27 @@ TEST(ImageIo, PngChunkLongerThanTheFileIsRefused) {
                 "chunk 'IDAT' at byte " + std::to_string(idat - 4) + " claims 1073741824 bytes");
 }
 
+// stb_image reads by content: a 16-bit PGM named .png (the fuzzer's find: stb's PNM reader
+// returned an 8-bit buffer that the 16-bit path read past) and the other formats stb knows but
+// Penumbra does not list are refused by their magic, whatever the extension; an 8-bit PGM too.
+TEST(ImageIo, ContentsOfUnlistedFormatsAreRefusedWhateverTheExtension) {
+  const std::string dir = freshDir("unlisted");
+  const std::string pgm16 = std::string("P5\t22\t22\t1212") + "\xdb\x18";
+  const std::string pgm8 = "P5 2 2 255\n" + std::string(4, '\x80');
+  const std::string ppm = "P6 1 1 255\n" + std::string(3, '\x80');
+  const std::pair<const char*, std::string> cases[] = {{"pgm16.png", pgm16},
+                                                       {"pgm8.jpg", pgm8},
+                                                       {"ppm.bmp", ppm},
+                                                       {"psd.png", "8BPS\x00\x01"},
+                                                       {"gif.tga", "GIF89a\x01\x00"}};
+  for (const auto& [name, bytes] : cases) {
+    const std::string path = dir + "/" + name;
+    writeRaw(path, bytes);
+    expectIoError([&] { readImage(path); }, path, "which Penumbra does not read");
+    expectIoError([&] { readImage8(path); }, path, "which Penumbra does not read");
+  }
+}
+
 TEST(ImageIo, UnsupportedExtensionListsTheSupportedOnes) {
   const std::string dir = freshDir("ext");
   const Image image(2, 2);
