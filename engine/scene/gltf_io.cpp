@@ -2,6 +2,7 @@
 
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_animation.h"
+#include "scene/gltf_textures.h"
 
 #include "scene/mesh_io.h"
 
@@ -14,8 +15,10 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -136,51 +139,6 @@ mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t 
   return t * r * s;
 }
 
-// ---- images ---------------------------------------------------------------------------------
-
-// How a texture's texels become ours: colour (sRGB, RGB or grey), data (raw values, for
-// normal maps and metallic-roughness) or coverage (the alpha channel alone). 8-bit images stay
-// 8-bit, 16-bit ones become float; the factors are applied at lookup (Texture::factor).
-enum class Texels { Color, Data, Alpha };
-
-// A decoded glTF image turned into one of ours; empty for coverage of an image without alpha
-// (the material's factor alone is its coverage).
-TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
-                           Texels texels) {
-  const std::string where = indexed("images", index);
-  const int w = source.width, h = source.height, n = source.component;
-  const size_t bytesPer = source.bits == 16 ? 2 : 1;
-  if (w <= 0 || h <= 0 || n < 1 || n > 4 || (source.bits != 8 && source.bits != 16) ||
-      source.image.size() != size_t(w) * size_t(h) * size_t(n) * bytesPer)
-    fail(path, where,
-         (source.uri.empty() || source.uri.rfind("data:", 0) == 0 ? std::string("its data")
-                                                                  : "'" + source.uri + "'") +
-             " could not be read or decoded as an image");
-  // The channels kept: alpha alone for coverage (none without one), grey or RGB otherwise.
-  if (texels == Texels::Alpha && n != 2 && n != 4) return {};
-  const int first = texels == Texels::Alpha ? n - 1 : 0;
-  const size_t channels = texels == Texels::Alpha || n < 3 ? 1 : 3;
-  const size_t count = size_t(w) * size_t(h) * channels;
-  std::vector<uint8_t> bytes(bytesPer == 1 ? count : 0);
-  std::vector<float> values(bytesPer == 2 ? count : 0);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t at = ((i / channels) * size_t(n) + size_t(first) + i % channels) * bytesPer;
-    if (bytesPer == 1) {
-      bytes[i] = source.image[at];
-    } else {
-      const float v = float(source.image[at] | source.image[at + 1] << 8) / 65535.0f;
-      values[i] = texels == Texels::Color ? srgbToLinear(v) : v;
-    }
-  }
-  // Shading lookups read the mip levels; coverage is tested at level 0 alone (by the
-  // acceleration structure's filter), so it has none.
-  const bool mips = texels != Texels::Alpha;
-  if (bytesPer == 2) return makeTextureImageFloat(w, h, int(channels), std::move(values), mips);
-  return makeTextureImage8(w, h, int(channels), std::move(bytes),
-                           texels == Texels::Color ? TexelEncoding::Srgb8 : TexelEncoding::Linear8,
-                           mips);
-}
-
 // ---- the conversion -------------------------------------------------------------------------
 
 class Converter {
@@ -271,7 +229,8 @@ class Converter {
 
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
-           e == "KHR_materials_ior" || e == "KHR_lights_punctual";
+           e == "KHR_materials_ior" || e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
+           e == "KHR_mesh_quantization";
   }
 
   void warn(const std::string& message) {
@@ -289,17 +248,44 @@ class Converter {
   // A texture of the file as one of ours, converted as `texels` say, its factor applied at
   // lookup; an image used twice the same way is converted once, and a texture used twice with
   // the same factor is one texture. -1 for coverage from an image without alpha.
-  int texture(int index, int texCoord, const std::string& where, Texels texels, vec3 factor) {
+  int texture(const tinygltf::TextureInfo& info, const std::string& where, Texels texels,
+              vec3 factor) {
+    return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
+  }
+  int texture(const tinygltf::NormalTextureInfo& info, const std::string& where, Texels texels,
+              vec3 factor) {
+    return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
+  }
+
+  int texture(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
+              const std::string& where, Texels texels, vec3 factor) {
     if (index < 0) return -1;
     if (size_t(index) >= model_.textures.size())
       fail(path_, where, "texture " + std::to_string(index) + " does not exist");
-    const int source = model_.textures[size_t(index)].source;
+    const tinygltf::Texture& gltfTexture = model_.textures[size_t(index)];
+    const int source = gltfTexture.source;
     if (source < 0 || size_t(source) >= model_.images.size())
       fail(path_, where, "its texture has no image");
+    Texture t;
+    t.kind = Texture::Kind::Image;
+    t.factor = factor;
+    if (gltfTexture.sampler >= 0) {
+      if (size_t(gltfTexture.sampler) >= model_.samplers.size())
+        fail(path_, where, "sampler " + std::to_string(gltfTexture.sampler) + " does not exist");
+      const tinygltf::Sampler& sampler = model_.samplers[size_t(gltfTexture.sampler)];
+      const std::string at = indexed("samplers", size_t(gltfTexture.sampler));
+      t.wrap.u = wrapMode(path_, sampler.wrapS, at + ".wrapS");
+      t.wrap.v = wrapMode(path_, sampler.wrapT, at + ".wrapT");
+    }
+    textureTransform(path_, extensions, where, t, texCoord);
     if (texCoord != 0)
       warn(where + ": uv set " + std::to_string(texCoord) +
            " is not read; the first uv set is used");
-    const auto key = std::make_tuple(source, int(texels), factor.x, factor.y, factor.z);
+    const TextureKey key{
+        source,
+        int(texels),
+        {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)), t.uvLinear[0][0],
+         t.uvLinear[0][1], t.uvLinear[1][0], t.uvLinear[1][1], t.uvOffset.x, t.uvOffset.y}};
     const auto known = textureIds_.find(key);
     if (known != textureIds_.end()) return known->second;
     const auto imageKey = std::make_pair(source, int(texels));
@@ -313,10 +299,7 @@ class Converter {
     }
     int id = -1;
     if (image->second >= 0) {
-      Texture t;
-      t.kind = Texture::Kind::Image;
       t.imageIndex = image->second;
-      t.factor = factor;
       out_.textures.push_back(t);
       id = int(out_.textures.size() - 1);
     }
@@ -340,8 +323,8 @@ class Converter {
     if (!std::isfinite(base.x + base.y + base.z + alpha))
       fail(path_, where + ".pbrMetallicRoughness.baseColorFactor", "not finite");
     out.albedo = glm::clamp(base, vec3(0.0f), vec3(1.0f));
-    out.albedoTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                where + ".baseColorTexture", Texels::Color, out.albedo);
+    out.albedoTexture =
+        texture(pbr.baseColorTexture, where + ".baseColorTexture", Texels::Color, out.albedo);
     out.metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
     out.roughness = std::max(std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f), 0.02f);
     out.transmission = std::clamp(float(extensionNumber(m.extensions, "KHR_materials_transmission",
@@ -350,14 +333,14 @@ class Converter {
     out.ior = float(extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5));
     if (!(out.ior >= 1.0f && out.ior < 10.0f)) out.ior = 1.5f;
     out.metallicRoughnessTexture =
-        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                where + ".metallicRoughnessTexture", Texels::Data, vec3(1.0f));
+        texture(pbr.metallicRoughnessTexture, where + ".metallicRoughnessTexture", Texels::Data,
+                vec3(1.0f));
     if (m.extensions.count("KHR_materials_transmission") &&
         m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
       warn(where + ": transmissionTexture is not read (the factor is)");
     if (m.normalTexture.index >= 0) {
-      out.normalTexture = texture(m.normalTexture.index, m.normalTexture.texCoord,
-                                  where + ".normalTexture", Texels::Data, vec3(1.0f));
+      out.normalTexture =
+          texture(m.normalTexture, where + ".normalTexture", Texels::Data, vec3(1.0f));
       out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
     }
     if (m.occlusionTexture.index >= 0)
@@ -365,8 +348,8 @@ class Converter {
     if (m.alphaMode == "MASK") {
       out.alpha = std::clamp(alpha, 0.0f, 1.0f);
       out.alphaCutoff = std::isfinite(m.alphaCutoff) ? std::max(float(m.alphaCutoff), 0.0f) : 0.5f;
-      out.alphaTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                 where + ".baseColorTexture", Texels::Alpha, vec3(1.0f));
+      out.alphaTexture =
+          texture(pbr.baseColorTexture, where + ".baseColorTexture", Texels::Alpha, vec3(1.0f));
     } else if (m.alphaMode == "BLEND") {
       warn(where + ": alphaMode BLEND is drawn opaque (MASK cut-outs are rendered)");
     }
@@ -381,8 +364,8 @@ class Converter {
         fail(path_, where + ".emissiveFactor", "not finite");
     }
     if (out.isEmissive())
-      out.emissionTexture = texture(m.emissiveTexture.index, m.emissiveTexture.texCoord,
-                                    where + ".emissiveTexture", Texels::Color, vec3(1.0f));
+      out.emissionTexture =
+          texture(m.emissiveTexture, where + ".emissiveTexture", Texels::Color, vec3(1.0f));
     return out;
   }
 
@@ -516,7 +499,8 @@ class Converter {
     for (const mat4& m : world) moves = moves || m != world.front();
     if (!moves) {
       for (size_t p = 0; p < mesh.primitives.size(); ++p)
-        addPrimitive(mesh, size_t(meshIndex), p, {world.front()}, out_.mesh, anyNormals_, anyUvs_);
+        addPrimitive(mesh, size_t(meshIndex), p, {world.front()}, out_.mesh, anyNormals_, anyUvs_,
+                     anyColors_);
       return;
     }
     float radius = 0;
@@ -538,8 +522,8 @@ class Converter {
           (model_.meshes[size_t(meshIndex)].name.empty() ? indexed("meshes", size_t(meshIndex))
                                                          : model_.meshes[size_t(meshIndex)].name);
       moving.timeSteps = int(steps.size());
-      bool normals = false, uvs = false;
-      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs);
+      bool normals = false, uvs = false, colors = false;
+      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs, colors);
       if (!moving.indices.empty()) out_.animatedMeshes.push_back(std::move(moving));
     }
   }
@@ -547,7 +531,7 @@ class Converter {
   // Appends one primitive to `target` (vertex time steps as many as `steps`; a target with
   // several steps receives one primitive only).
   void addPrimitive(const tinygltf::Mesh& mesh, size_t meshIndex, size_t p, const Samples& steps,
-                    Mesh& target, bool& anyNormals, bool& anyUvs) {
+                    Mesh& target, bool& anyNormals, bool& anyUvs, bool& anyColors) {
     const tinygltf::Primitive& prim = mesh.primitives[p];
     const std::string where = indexed("meshes", meshIndex) + "." + indexed("primitives", p);
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -559,8 +543,9 @@ class Converter {
     const auto position = prim.attributes.find("POSITION");
     if (position == prim.attributes.end()) fail(path_, where, "no POSITION attribute");
     const AccessorReader positions(path_, model_, position->second, where + ".POSITION");
-    if (positions.components() != 3 || !positions.isFloat())
-      fail(path_, positions.where(), "POSITION must be float VEC3");
+    // Float, or integers (normalised or not) as KHR_mesh_quantization allows: the node's
+    // transform scales them.
+    if (positions.components() != 3) fail(path_, positions.where(), "POSITION must be VEC3");
     const size_t vertexCount = positions.count();
     if (vertexCount == 0) return;
     if (vertexCount * steps.size() > kMaxVertices - totalVertices_)
@@ -596,6 +581,15 @@ class Converter {
                       // glTF's v runs down the image; ours runs up.
                       return vec2(float(r.get(v, 0)), 1.0f - float(r.get(v, 1)));
                     });
+    // Vertex colours (linear, RGB or RGBA: the alpha is not read) multiply the base colour;
+    // primitives without are white.
+    appendAttribute(
+        target, accessorOf("COLOR_0"), where + ".COLOR_0", vertexCount, 3, target.colors, anyColors,
+        [&](const AccessorReader& r, size_t v) {
+          return glm::max(vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2))),
+                          vec3(0.0f));
+        },
+        vec3(1.0f), 4);
     target.vertexCount += uint32_t(vertexCount);
 
     std::vector<uint32_t> order;
@@ -653,30 +647,35 @@ class Converter {
 
   // Appends an optional per-vertex attribute; once one primitive has it, every vertex gets a
   // value (zeros for primitives without, and for the vertices before).
+  // `missing` is the value of those vertices (and of a non-finite one); an accessor of
+  // `components`, or of `alsoComponents` when that is not 0, is read.
   template <typename T, typename Read>
   void appendAttribute(const Mesh& target, int accessor, const std::string& where,
                        size_t vertexCount, int components, std::vector<T>& values, bool& any,
-                       Read&& read) {
+                       Read&& read, T missing = T(0.0f), int alsoComponents = 0) {
     const bool has = accessor >= 0;
     if (!has && !any) return;
     if (has && !any) {
-      values.assign(target.vertexCount, T(0.0f));
+      values.assign(target.vertexCount, missing);
       any = true;
     }
     if (!has) {
-      values.resize(values.size() + vertexCount, T(0.0f));
+      values.resize(values.size() + vertexCount, missing);
       return;
     }
     const AccessorReader r(path_, model_, accessor, where);
-    if (r.components() != components || r.count() != vertexCount)
+    if ((r.components() != components &&
+         (alsoComponents == 0 || r.components() != alsoComponents)) ||
+        r.count() != vertexCount)
       fail(path_, r.where(),
            "expected " + std::to_string(vertexCount) + " VEC" + std::to_string(components) +
+               (alsoComponents ? " or VEC" + std::to_string(alsoComponents) : std::string()) +
                " values");
     for (size_t v = 0; v < vertexCount; ++v) {
       const T value = read(r, v);
       bool finite = true;
-      for (int c = 0; c < components; ++c) finite = finite && std::isfinite(value[c]);
-      values.push_back(finite ? value : T(0.0f));
+      for (int c = 0; c < T::length(); ++c) finite = finite && std::isfinite(value[c]);
+      values.push_back(finite ? value : missing);
     }
   }
 
@@ -732,14 +731,16 @@ class Converter {
   std::vector<std::vector<Track>> tracks_;  // per node
   bool animating_ = false;                  // motion blur over the shutter
   std::set<std::string> warned_;
-  std::map<std::tuple<int, int, float, float, float>, int> textureIds_;
+  // A texture of ours: the image, its conversion, and its factor, wrap modes and uv transform.
+  using TextureKey = std::tuple<int, int, std::array<float, 11>>;
+  std::map<TextureKey, int> textureIds_;
   std::map<std::pair<int, int>, int> imageIds_;  // (source, texels) -> out_.images; -1: none
   int defaultMaterial_ = -1;
   size_t visits_ = 0, totalVertices_ = 0, totalTriangles_ = 0;
   // Bounds on what instancing can multiply a small file into (about 2 GB of vertices).
   static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
   static constexpr size_t kMaxVertices = size_t(1) << 26;
-  bool anyNormals_ = false, anyUvs_ = false;
+  bool anyNormals_ = false, anyUvs_ = false, anyColors_ = false;
 };
 
 }  // namespace

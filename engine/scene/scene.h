@@ -9,6 +9,7 @@
 #include "scene/environment.h"
 #include "scene/texture_image.h"
 
+#include <glm/mat2x2.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -40,6 +41,7 @@ struct Mesh {
   std::vector<vec3> positions;
   std::vector<vec3> normals;          // empty: flat shading
   std::vector<vec2> uvs;              // empty: (0,0); never per step
+  std::vector<vec3> colors;           // empty: white; multiply the base colour; never per step
   std::vector<uint32_t> indices;      // 3 per triangle, counter-clockwise = front
   std::vector<uint32_t> materialIds;  // one per triangle, index into Scene::materials
 
@@ -55,6 +57,13 @@ struct Texture {
   vec2 scale = vec2(1.0f);   // uv repetitions (checker cells / stripes per unit uv)
   int imageIndex = -1;       // Kind::Image: index into Scene::images
   vec3 factor = vec3(1.0f);  // Kind::Image: multiplies the texels at lookup (glTF's factors)
+  // Kind::Image: how uv outside [0, 1) reaches the image (glTF's sampler), and an affine map
+  // of the surface's uv before the lookup, uv' = uvLinear uv + uvOffset (glTF's
+  // KHR_texture_transform, in this engine's uv, whose v runs up the image).
+  TextureWrapModes wrap;
+  bool uvTransformed = false;
+  glm::mat2 uvLinear = glm::mat2(1.0f);
+  vec2 uvOffset = vec2(0.0f);
 };
 
 struct Material {

@@ -133,6 +133,70 @@ vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texe
          ty * ((1 - tx) * texel(row1 + c0) + tx * texel(row1 + c1));
 }
 
+// The two texels, along one axis of n texels, that a bilinear lookup at texel coordinate x
+// (texel centres at i + 0.5) blends, and the weight of the second, under a wrap mode other
+// than Repeat (bilinear's own path): ClampToEdge extends the edge texels, MirroredRepeat reads
+// the image backwards every other period.
+void wrappedPair(TextureWrap wrap, float x, int n, int& i0, int& i1, float& t) {
+  const float f = std::floor(x);
+  t = x - f;
+  // Far outside the image every texel is an edge texel (clamp) or the period repeats: bound
+  // the coordinate before it becomes an int.
+  const float period = 2.0f * float(n);
+  float bounded = wrap == TextureWrap::ClampToEdge ? (!(f >= -1.0f) ? -1.0f : std::min(f, float(n)))
+                                                   : f - period * std::floor(f / period);
+  if (!(bounded >= -1.0f && bounded <= period)) bounded = 0.0f;  // not finite
+  const int a = int(bounded), b = a + 1;
+  if (wrap == TextureWrap::ClampToEdge) {
+    i0 = std::clamp(a, 0, n - 1);
+    i1 = std::clamp(b, 0, n - 1);
+    return;
+  }
+  const int twice = 2 * n;
+  const auto mirror = [n, twice](int i) {
+    i = ((i % twice) + twice) % twice;
+    return i < n ? i : twice - 1 - i;
+  };
+  i0 = mirror(a);
+  i1 = mirror(b);
+}
+
+// Bilinear at one level under wrap modes that are not both Repeat.
+template <typename Texel>
+vec3 bilinearWrapped(const TextureImage::Level& level, int channels, glm::vec2 uv,
+                     TextureWrapModes wrap, Texel texel) {
+  const int w = level.width, h = level.height;
+  int x0, x1, y0, y1;
+  float tx, ty;
+  // Repeat along one axis takes the same coordinates as bilinear's.
+  const float x = wrap.u == TextureWrap::Repeat ? (uv.x - std::floor(uv.x)) * float(w) - 0.5f
+                                                : uv.x * float(w) - 0.5f;
+  const float y = wrap.v == TextureWrap::Repeat
+                      ? (1.0f - (uv.y - std::floor(uv.y))) * float(h) - 0.5f
+                      : (1.0f - uv.y) * float(h) - 0.5f;
+  if (wrap.u == TextureWrap::Repeat) {
+    const float fx = std::floor(x);
+    tx = x - fx;
+    x0 = ((int(fx) % w) + w) % w;
+    x1 = x0 + 1 == w ? 0 : x0 + 1;
+  } else {
+    wrappedPair(wrap.u, x, w, x0, x1, tx);
+  }
+  if (wrap.v == TextureWrap::Repeat) {
+    const float fy = std::floor(y);
+    ty = y - fy;
+    y0 = ((int(fy) % h) + h) % h;
+    y1 = y0 + 1 == h ? 0 : y0 + 1;
+  } else {
+    wrappedPair(wrap.v, y, h, y0, y1, ty);
+  }
+  const size_t row0 = level.offset + size_t(y0) * size_t(w) * size_t(channels);
+  const size_t row1 = level.offset + size_t(y1) * size_t(w) * size_t(channels);
+  const size_t c0 = size_t(x0) * size_t(channels), c1 = size_t(x1) * size_t(channels);
+  return (1 - ty) * ((1 - tx) * texel(row0 + c0) + tx * texel(row0 + c1)) +
+         ty * ((1 - tx) * texel(row1 + c0) + tx * texel(row1 + c1));
+}
+
 // Calls f with the function that reads a texel of `image` as linear RGB.
 template <typename F>
 vec3 withTexelReader(const TextureImage& image, F f) {
@@ -222,8 +286,11 @@ vec3 textureTexel(const TextureImage& image, int level, int x, int y) {
   return withTexelReader(image, [index](auto texel) { return texel(index); });
 }
 
-vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv) {
+vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv, TextureWrapModes wrap) {
   const TextureImage::Level& l = image.levels[size_t(level)];
+  if (!wrap.repeats())
+    return withTexelReader(
+        image, [&](auto texel) { return bilinearWrapped(l, image.channels, uv, wrap, texel); });
   return withTexelReader(image, [&](auto texel) { return bilinear(l, image.channels, uv, texel); });
 }
 
@@ -234,14 +301,15 @@ float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy) {
   return std::min(std::log2(footprint), float(image.levels.size() - 1));
 }
 
-vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy) {
+vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy,
+                   TextureWrapModes wrap) {
   const float level = textureMipLevel(image, dx, dy);
   const int fine = int(level);
   if (level <= 0.0f || fine + 1 >= int(image.levels.size()))
-    return sampleTextureLevel(image, fine, uv);
+    return sampleTextureLevel(image, fine, uv, wrap);
   const float t = level - float(fine);
-  return (1 - t) * sampleTextureLevel(image, fine, uv) +
-         t * sampleTextureLevel(image, fine + 1, uv);
+  return (1 - t) * sampleTextureLevel(image, fine, uv, wrap) +
+         t * sampleTextureLevel(image, fine + 1, uv, wrap);
 }
 
 float imageMeanLuminance(const TextureImage& image, vec3 factor) {

@@ -61,17 +61,29 @@ TextureImage makeTextureImage(const Image& image, bool mips = true);
 // Throws ImageIoError as readImage does.
 TextureImage readTextureImage(const std::string& path);
 
+// How a lookup reaches the image outside uv [0, 1), per axis: glTF's sampler wrap modes (and
+// OpenGL's): the image repeats, its edge texels extend, or it repeats mirrored every other time.
+enum class TextureWrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+struct TextureWrapModes {
+  TextureWrap u = TextureWrap::Repeat, v = TextureWrap::Repeat;
+  bool repeats() const { return u == TextureWrap::Repeat && v == TextureWrap::Repeat; }
+  bool operator==(const TextureWrapModes&) const = default;
+};
+
 // The texel (x, y) of `level` in linear values (x and y wrap around).
 vec3 textureTexel(const TextureImage& image, int level, int x, int y);
-// Bilinear at one level, repeating; uv (0,0) is the image's bottom-left corner.
-vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv);
+// Bilinear at one level, wrapping as `wrap` says (repeating by default); uv (0,0) is the
+// image's bottom-left corner.
+vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv,
+                        TextureWrapModes wrap = {});
 // The mip level whose texels match a footprint of one pixel with uv derivatives dx and dy:
 // log2 of the footprint's longer side (|duv/dx| or |duv/dy|) in texels of level 0, clamped to
 // [0, coarsest]. A zero or non-finite footprint gives 0.
 float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy);
 // The image over a pixel's footprint: trilinear between the two levels around
 // textureMipLevel (bilinear at level 0 for a zero footprint).
-vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy);
+vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy,
+                   TextureWrapModes wrap = {});
 // The mean luminance of `factor` times each texel of level 0 (0 for an empty image).
 float imageMeanLuminance(const TextureImage& image, vec3 factor);
 

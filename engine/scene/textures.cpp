@@ -6,8 +6,12 @@
 
 namespace penumbra {
 
-vec3 sampleImageBilinear(const TextureImage& image, glm::vec2 uv) {
-  return sampleTextureLevel(image, 0, uv);
+vec3 sampleImageBilinear(const TextureImage& image, glm::vec2 uv, TextureWrapModes wrap) {
+  return sampleTextureLevel(image, 0, uv, wrap);
+}
+
+glm::vec2 textureUv(const Texture& texture, glm::vec2 uv) {
+  return texture.uvTransformed ? texture.uvLinear * uv + texture.uvOffset : uv;
 }
 
 vec3 evalTexture(const Scene& scene, const Texture& texture, glm::vec2 uv,
@@ -15,9 +19,15 @@ vec3 evalTexture(const Scene& scene, const Texture& texture, glm::vec2 uv,
   switch (texture.kind) {
     case Texture::Kind::Constant:
       return texture.color0;
-    case Texture::Kind::Image:
-      return texture.factor * sampleTexture(scene.images[size_t(texture.imageIndex)], uv,
-                                            footprint.dx, footprint.dy);
+    case Texture::Kind::Image: {
+      const TextureImage& image = scene.images[size_t(texture.imageIndex)];
+      if (!texture.uvTransformed)
+        return texture.factor * sampleTexture(image, uv, footprint.dx, footprint.dy, texture.wrap);
+      // The footprint's derivatives go through the map's linear part.
+      return texture.factor * sampleTexture(image, textureUv(texture, uv),
+                                            texture.uvLinear * footprint.dx,
+                                            texture.uvLinear * footprint.dy, texture.wrap);
+    }
     case Texture::Kind::Checker: {
       const int cx = int(std::floor(uv.x * texture.scale.x));
       const int cy = int(std::floor(uv.y * texture.scale.y));

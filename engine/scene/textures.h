@@ -20,8 +20,11 @@ struct UvFootprint {
 
 vec3 evalTexture(const Scene& scene, const Texture& texture, glm::vec2 uv,
                  const UvFootprint& footprint = {});
-// An image at uv, bilinear and repeating at level 0; uv (0,0) is its bottom-left corner.
-vec3 sampleImageBilinear(const TextureImage& image, glm::vec2 uv);
+// An image at uv, bilinear at level 0, wrapping as `wrap` says (repeating by default); uv (0,0)
+// is its bottom-left corner.
+vec3 sampleImageBilinear(const TextureImage& image, glm::vec2 uv, TextureWrapModes wrap = {});
+// The uv an image texture is read at, for a surface's uv: its uv transform applied.
+glm::vec2 textureUv(const Texture& texture, glm::vec2 uv);
 // The mean luminance of a texture over its uv square (the mean of two colours for checker and
 // stripes), its factor applied.
 float textureMeanLuminance(const Scene& scene, const Texture& texture);

@@ -22,7 +22,8 @@ namespace {
 struct CutoutMesh {
   struct Coverage {
     float alpha = 1.0f, cutoff = -1.0f;
-    int image = -1;  // into Accel::Impl::cutoutImages; -1: the factor alone
+    int image = -1;   // into Accel::Impl::cutoutImages; -1: the factor alone
+    Texture mapping;  // the texture's wrap modes and uv transform
   };
   std::vector<uint32_t> indices;
   std::vector<vec2> uvs;
@@ -38,7 +39,8 @@ struct CutoutMesh {
     if (c.image >= 0 && !uvs.empty()) {
       const uint32_t* idx = &indices[3 * size_t(prim)];
       const vec2 uv = (1 - u - v) * uvs[idx[0]] + u * uvs[idx[1]] + v * uvs[idx[2]];
-      a *= sampleImageBilinear((*images)[size_t(c.image)], uv).x;
+      a *= sampleImageBilinear((*images)[size_t(c.image)], textureUv(c.mapping, uv), c.mapping.wrap)
+               .x;
     }
     return a < c.cutoff;
   }
@@ -146,6 +148,7 @@ void* Accel::addCutouts(const Scene& scene, const Mesh& mesh, std::vector<int>& 
       image = int(impl_->cutoutImages.size() - 1);
     }
     c.image = image;
+    c.mapping = t;
   }
   cut->images = &impl_->cutoutImages;
   impl_->cutouts.push_back(std::move(cut));

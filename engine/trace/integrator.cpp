@@ -31,6 +31,7 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.color = m.albedoTexture >= 0
                 ? evalTexture(scene, scene.textures[size_t(m.albedoTexture)], s.uv, s.footprint)
                 : m.albedo;
+  if (s.vertexColored) b.color *= s.vertexColor;
   float metallic = m.metallic, roughness = m.roughness;
   if (m.metallicRoughnessTexture >= 0) {
     const vec3 t =
@@ -176,6 +177,10 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
   }
   s.uv = mesh.uvs.empty() ? vec2(0.0f)
                           : b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
+  if (!mesh.colors.empty()) {
+    s.vertexColor = b0 * mesh.colors[idx[0]] + b1 * mesh.colors[idx[1]] + b2 * mesh.colors[idx[2]];
+    s.vertexColored = true;
+  }
   s.materialId = mesh.materialIds[hit.primId];
   // The triangle's tangents orient a normal map and turn differentials into a uv footprint:
   // only a textured material needs them.

@@ -75,6 +75,8 @@ struct SurfaceHit {
   vec3 geometricNormal;  // unit, counter-clockwise side
   vec3 shadingNormal;    // unit, same side as geometricNormal
   vec2 uv;
+  vec3 vertexColor{1.0f};  // the mesh's vertex colours there (white without): scale the base colour
+  bool vertexColored = false;
   UvFootprint footprint;  // uv across about one pixel; zero: textures' level 0
   uint32_t materialId = 0;
 };

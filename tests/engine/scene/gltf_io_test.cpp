@@ -342,6 +342,176 @@ TEST(Gltf, NormalMapsCutoutsAndEmissionTexturesAreRead) {
   EXPECT_EQ(g.images.size(), 3u);
 }
 
+TEST(Gltf, SamplerWrapModesAndTextureTransformsAreApplied) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // A 4 x 4 RGB image whose red byte names its texel: 16 (row * 4 + column) + 8, top row first.
+  std::vector<uint8_t> texels;
+  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
+  auto red = [](int column, int row) {
+    return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8));
+  };
+  j["images"] = {{{"uri", pngUri(4, 4, 3, texels)}}};
+  j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}}};
+  j["extensionsUsed"].push_back("KHR_texture_transform");
+  // The spec's example: the lower-left quadrant, turned 90 degrees.
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 1},
+      {"extensions",
+       {{"KHR_texture_transform",
+         {{"offset", {0, 1}}, {"rotation", 1.57079632679}, {"scale", {0.5, 0.5}}}}}}};
+  // Half the image, shifted right: the top-right quadrant; and the clamping sampler.
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0},
+      {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {0.5, 0.5}}}}}}};
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+  const GltfData g = loadGltf(writeGltf("transform.gltf", j));
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
+  EXPECT_EQ(g.images.size(), 1u) << "one image, however it is mapped";
+  Scene scene;
+  scene.images = g.images;
+  // glTF's uv (s, t) runs down the image; ours is (s, 1 - t).
+  auto at = [&](const Texture& t, float s, float tt) {
+    return evalTexture(scene, t, vec2(s, 1.0f - tt)).x;
+  };
+  const Texture& turned = g.textures[size_t(g.materials[0].albedoTexture)];
+  EXPECT_TRUE(turned.wrap.repeats());
+  EXPECT_TRUE(turned.uvTransformed);
+  // (s, t) -> (t / 2, 1 - s / 2): rows 2 and 3, columns 0 and 1.
+  const float paint = 0.5f;  // the material's base colour factor
+  EXPECT_NEAR(at(turned, 0.75f, 0.25f), paint * red(0, 2), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.25f, 0.25f), paint * red(0, 3), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.25f, 0.75f), paint * red(1, 3), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.75f, 0.75f), paint * red(1, 2), 1e-5f);
+  const Texture& shifted = g.textures[size_t(g.materials[1].albedoTexture)];
+  EXPECT_EQ(shifted.wrap.u, TextureWrap::ClampToEdge);
+  EXPECT_EQ(shifted.wrap.v, TextureWrap::MirroredRepeat);
+  // (s, t) -> (s / 2 + 1/2, t / 2): columns 2 and 3, rows 0 and 1.
+  EXPECT_NEAR(at(shifted, 0.25f, 0.25f), red(2, 0), 1e-5f);
+  EXPECT_NEAR(at(shifted, 0.75f, 0.75f), red(3, 1), 1e-5f);
+  // Past the right edge the clamp holds column 3; past t = 2 the mirror reads rows backwards.
+  EXPECT_NEAR(at(shifted, 2.5f, 0.25f), red(3, 0), 1e-5f);
+  // (t = 3.75 is t' = 1.875: mirrored, row 0; repeating or clamping would read row 3.)
+  EXPECT_NEAR(at(shifted, 0.25f, 3.75f), red(2, 0), 1e-5f);
+  // The footprint goes through the transform: two texels wide in the surface's uv is one
+  // texel after the scale of 1/2, so level 0 is read, not level 1.
+  const vec3 sharp = evalTexture(scene, shifted, vec2(0.25f, 0.75f), {vec2(0.5f, 0), vec2(0)});
+  EXPECT_NEAR(sharp.x, red(2, 0), 1e-5f);
+}
+
+TEST(Gltf, BadSamplersAndTransformsNameTheElement) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {9, 9, 9})}}};
+  j["samplers"] = {{{"wrapS", 10497}, {"wrapT", 1234}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  expectSceneError([&] { loadGltf(writeGltf("wrap.gltf", j)); },
+                   {"wrap.gltf", "samplers[0].wrapT", "1234"});
+  j["samplers"] = {{{"wrapS", 33071}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1, "two"}}}}}}};
+  expectSceneError([&] { loadGltf(writeGltf("transform.gltf", j)); },
+                   {"transform.gltf", "KHR_texture_transform.scale", "two numbers"});
+}
+
+// The unit quad quantised as KHR_mesh_quantization has it (gltfpack's output): positions as
+// unsigned 16-bit integers, not normalised, scaled back by the node; normals as normalised
+// bytes; uvs as normalised unsigned shorts; vertex colours as normalised RGBA bytes. Every
+// attribute starts on a 4-byte boundary: positions (8-byte stride, 32 bytes), normals (16),
+// uvs (16), colours (16), 16-bit indices (12).
+std::string quantisedQuadBuffer() {
+  std::string b;
+  for (const uint16_t v : {0, 0, 0, 100, 0, 0, 100, 100, 0, 0, 100, 0}) {
+    append<uint16_t>(b, {v});
+    if (b.size() % 8 == 6) append<uint16_t>(b, {0});
+  }
+  for (int v = 0; v < 4; ++v) append<int8_t>(b, {0, 0, 127, 0});
+  append<uint16_t>(b, {0, 65535, 65535, 65535, 65535, 0, 0, 0});
+  append<uint8_t>(b, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 128, 51, 102, 255, 0});
+  append<uint16_t>(b, {0, 1, 2, 0, 2, 3});
+  return b;
+}
+
+Json quantisedQuadGltf(const std::string& buffer) {
+  Json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}, {"scale", {0.01, 0.01, 0.01}}}}},
+      {"meshes",
+       {{{"primitives",
+          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}, {"COLOR_0", 3}}},
+            {"indices", 4}},
+           {{"attributes", {{"POSITION", 0}}}, {"indices", 4}}}}}}},
+      {"buffers", {{{"uri", dataUri(buffer)}, {"byteLength", buffer.size()}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 32}, {"byteStride", 8}},
+        {{"buffer", 0}, {"byteOffset", 32}, {"byteLength", 16}, {"byteStride", 4}},
+        {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 16}},
+        {{"buffer", 0}, {"byteOffset", 64}, {"byteLength", 16}},
+        {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5123},
+         {"count", 4},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {100, 100, 0}}},
+        {{"bufferView", 1},
+         {"componentType", 5120},
+         {"normalized", true},
+         {"count", 4},
+         {"type", "VEC3"}},
+        {{"bufferView", 2},
+         {"componentType", 5123},
+         {"normalized", true},
+         {"count", 4},
+         {"type", "VEC2"}},
+        {{"bufferView", 3},
+         {"componentType", 5121},
+         {"normalized", true},
+         {"count", 4},
+         {"type", "VEC4"}},
+        {{"bufferView", 4}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+      {"extensionsUsed", {"KHR_mesh_quantization"}},
+      {"extensionsRequired", {"KHR_mesh_quantization"}}};
+  return j;
+}
+
+TEST(Gltf, QuantisedAttributesAndVertexColoursAreRead) {
+  const std::string buffer = quantisedQuadBuffer();
+  ASSERT_EQ(buffer.size(), 92u);
+  const GltfData g = loadGltf(writeGltf("quantised.gltf", quantisedQuadGltf(buffer)));
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
+  ASSERT_EQ(g.mesh.vertexCount, 8u);
+  expectNear(g.mesh.positions[1], vec3(1, 0, 0));
+  expectNear(g.mesh.positions[2], vec3(1, 1, 0));
+  expectNear(g.mesh.positions[6], vec3(1, 1, 0));
+  expectNear(g.mesh.normals[0], vec3(0, 0, 1));
+  EXPECT_NEAR(g.mesh.uvs[0].y, 0.0f, 1e-6f);  // glTF's (0, 1): ours (0, 0)
+  EXPECT_NEAR(g.mesh.uvs[1].x, 1.0f, 1e-6f);
+  EXPECT_NEAR(g.mesh.uvs[2].y, 1.0f, 1e-6f);
+  // Colours are linear (no sRGB decode); their alpha is not read. The second primitive has
+  // none: white.
+  ASSERT_EQ(g.mesh.colors.size(), 8u);
+  expectNear(g.mesh.colors[0], vec3(1, 0, 0));
+  expectNear(g.mesh.colors[2], vec3(0, 0, 1));
+  expectNear(g.mesh.colors[3], vec3(0.2f, 0.4f, 1.0f));
+  for (size_t v = 4; v < 8; ++v) expectNear(g.mesh.colors[v], vec3(1.0f));
+  // A mesh without colours keeps none (white, at no cost).
+  const std::string plain = quadBuffer();
+  EXPECT_TRUE(loadGltf(writeGltf("plain.gltf", quadGltf(dataUri(plain), plain.size())))
+                  .mesh.colors.empty());
+  // COLOR_0 must be VEC3 or VEC4.
+  Json j = quantisedQuadGltf(buffer);
+  j["accessors"][3]["type"] = "VEC2";
+  j["accessors"][3]["count"] = 4;
+  expectSceneError([&] { loadGltf(writeGltf("colour.gltf", j)); },
+                   {"colour.gltf", "COLOR_0", "VEC3 or VEC4"});
+}
+
 TEST(Gltf, PunctualLightsArePlacedByTheirNodes) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());

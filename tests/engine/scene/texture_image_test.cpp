@@ -168,6 +168,60 @@ TEST(TextureImage, AFarAwayCheckerAveragesToItsMean) {
   }
 }
 
+TEST(TextureImage, ClampToEdgeExtendsTheEdgeTexels) {
+  // 4 x 1 texels 0, 1, 2, 3 (float, so the values are exact).
+  const TextureImage image = makeTextureImageFloat(4, 1, 1, {0, 1, 2, 3});
+  const TextureWrapModes clamp{TextureWrap::ClampToEdge, TextureWrap::ClampToEdge};
+  auto at = [&](float u, TextureWrapModes wrap) {
+    return sampleTextureLevel(image, 0, vec2(u, 0.5f), wrap).x;
+  };
+  // Inside, away from the edges, the modes agree.
+  for (const float u : {0.125f, 0.3f, 0.625f, 0.875f}) EXPECT_EQ(at(u, clamp), at(u, {})) << u;
+  // At the left edge repeat blends the last texel in; clamp keeps the first.
+  EXPECT_FLOAT_EQ(at(0.0f, {}), 1.5f);
+  EXPECT_FLOAT_EQ(at(0.0f, clamp), 0.0f);
+  EXPECT_FLOAT_EQ(at(1.0f, clamp), 3.0f);
+  for (const float u : {-0.5f, -3.25f, -1000.875f, -1e30f}) EXPECT_EQ(at(u, clamp), 0.0f) << u;
+  for (const float u : {1.5f, 7.0f, 1e30f}) EXPECT_EQ(at(u, clamp), 3.0f) << u;
+}
+
+TEST(TextureImage, MirroredRepeatReadsEveryOtherPeriodBackwards) {
+  const TextureImage image = makeTextureImageFloat(4, 1, 1, {0, 1, 2, 3});
+  const TextureWrapModes mirror{TextureWrap::MirroredRepeat, TextureWrap::Repeat};
+  auto at = [&](float u) { return sampleTextureLevel(image, 0, vec2(u, 0.5f), mirror).x; };
+  // Texel centres: u = 0.125 + 0.25 i in [0, 1); mirrored in [1, 2) and [-1, 0).
+  EXPECT_FLOAT_EQ(at(0.375f), 1.0f);
+  EXPECT_FLOAT_EQ(at(1.125f), 3.0f);
+  EXPECT_FLOAT_EQ(at(1.375f), 2.0f);
+  EXPECT_FLOAT_EQ(at(1.875f), 0.0f);
+  EXPECT_FLOAT_EQ(at(2.125f), 0.0f) << "the period is two images";
+  EXPECT_FLOAT_EQ(at(-0.125f), 0.0f);
+  EXPECT_FLOAT_EQ(at(-0.375f), 1.0f);
+  // At the seams the mirror meets itself: the edge texel, not a blend across the image.
+  EXPECT_FLOAT_EQ(at(1.0f), 3.0f);
+  EXPECT_FLOAT_EQ(at(0.0f), 0.0f);
+  EXPECT_FLOAT_EQ(at(2.0f), 0.0f);
+}
+
+TEST(TextureImage, WrapModesActPerAxis) {
+  // 2 x 2: top row 0, 1; bottom row 2, 3. v = 0 is the bottom.
+  const TextureImage image = makeTextureImageFloat(2, 2, 1, {0, 1, 2, 3});
+  const TextureWrapModes repeatUClampV{TextureWrap::Repeat, TextureWrap::ClampToEdge};
+  EXPECT_FLOAT_EQ(sampleTextureLevel(image, 0, vec2(1.25f, -0.5f), repeatUClampV).x, 2.0f);
+  EXPECT_FLOAT_EQ(sampleTextureLevel(image, 0, vec2(1.75f, 7.0f), repeatUClampV).x, 1.0f);
+  const TextureWrapModes clampUMirrorV{TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat};
+  EXPECT_FLOAT_EQ(sampleTextureLevel(image, 0, vec2(-2.0f, 1.25f), clampUMirrorV).x, 0.0f);
+  EXPECT_FLOAT_EQ(sampleTextureLevel(image, 0, vec2(-2.0f, 1.75f), clampUMirrorV).x, 2.0f);
+  // Trilinear lookups pass the modes to both levels.
+  EXPECT_FLOAT_EQ(sampleTexture(image, vec2(1.25f, -0.5f), vec2(0.0f), vec2(0.0f), repeatUClampV).x,
+                  2.0f);
+  // 8-bit images wrap the same way.
+  const TextureImage bytes = makeTextureImage8(2, 1, 1, {0, 255}, TexelEncoding::Linear8);
+  const TextureWrapModes clamp{TextureWrap::ClampToEdge, TextureWrap::ClampToEdge};
+  EXPECT_FLOAT_EQ(sampleTextureLevel(bytes, 0, vec2(0.0f, 0.5f), clamp).x, 0.0f);
+  EXPECT_FLOAT_EQ(sampleTextureLevel(bytes, 0, vec2(0.0f, 0.5f)).x, 0.5f);
+}
+
 TEST(TextureImage, BadSizesAreRefused) {
   EXPECT_THROW(makeTextureImage8(2, 2, 3, std::vector<uint8_t>(11), TexelEncoding::Srgb8),
                std::invalid_argument);

@@ -60,6 +60,24 @@ TEST(Accel, RaysPassThroughTheHolesOfACutout) {
   ASSERT_TRUE(accel.intersect(ray(0.6f), 0.0f, 100.0f, hit));
   EXPECT_NEAR(hit.t, 5.0f, 1e-4f);
   EXPECT_TRUE(accel.occluded(ray(0.6f), 0.0f, 100.0f));
+  // The texture's uv transform (glTF's KHR_texture_transform) reaches the coverage test: u
+  // mirrored, u' = 1 - u, puts the hole on the right.
+  scene.textures[0].uvTransformed = true;
+  scene.textures[0].uvLinear = glm::mat2(glm::vec2(-1, 0), glm::vec2(0, 1));
+  scene.textures[0].uvOffset = vec2(1, 0);
+  {
+    const Accel mirrored(scene);
+    EXPECT_TRUE(mirrored.intersect(ray(-0.6f), 0.0f, 100.0f, hit));
+    EXPECT_FALSE(mirrored.occluded(ray(0.6f), 0.0f, 100.0f));
+  }
+  // And its wrap modes: u' = u + 0.25 runs past the image's right edge near the quad's right
+  // side (x = 0.9: u' = 1.2), where clamping holds the covered texel but repeating wraps round
+  // to the hole.
+  scene.textures[0].uvLinear = glm::mat2(1.0f);
+  scene.textures[0].uvOffset = vec2(0.25f, 0);
+  EXPECT_FALSE(Accel(scene).intersect(ray(0.9f), 0.0f, 100.0f, hit));
+  scene.textures[0].wrap = {TextureWrap::ClampToEdge, TextureWrap::ClampToEdge};
+  EXPECT_TRUE(Accel(scene).intersect(ray(0.9f), 0.0f, 100.0f, hit));
   // The factor alone: coverage 0.4 under a cut-off of 0.5 is a hole everywhere.
   scene.materials[0].alphaTexture = -1;
   scene.materials[0].alpha = 0.4f;

@@ -348,6 +348,42 @@ TEST(Integrator, NormalMapsTiltTheShadingNormalInTheTangentFrame) {
   }
 }
 
+TEST(Integrator, VertexColoursScaleTheBaseColour) {
+  // A diffuse quad of albedo 0.8 facing the camera under a uniform white sky reflects its
+  // albedo times its colour; the colours vary linearly across it, so the interpolated colour at
+  // any point is that linear function there, and the image (centred on the quad) averages to
+  // its value at the centre.
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 10},
+    "background": [1, 1, 1],
+    "materials": {"m": {"type": "diffuse", "albedo": 0.8}},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  Mesh& mesh = scene.meshes[0];
+  auto colour = [](vec3 p) { return vec3(0.25f + 0.25f * p.x, 0.5f, 0.75f - 0.25f * p.y); };
+  for (const vec3& p : mesh.positions) mesh.colors.push_back(colour(p));
+  const auto prepared = prepareScene(scene);
+  Hit hit;
+  ASSERT_TRUE(
+      prepared->accel->intersect(Ray{vec3(0.3f, -0.6f, 5), vec3(0, 0, -1), 0}, 0, 100, hit));
+  const SurfaceHit surface = surfaceAt(prepared->scene, hit, 0.0f);
+  EXPECT_TRUE(surface.vertexColored);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(surface.vertexColor[c], colour(vec3(0.3f, -0.6f, 0))[c], 1e-5f) << c;
+  const RenderResult r = renderScene(scene, 64);
+  vec3 mean(0.0f);
+  for (const vec3& v : r.image.pixels) mean += v / float(r.image.pixels.size());
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], 0.8f * colour(vec3(0.0f))[c], 0.01f) << c;
+  // Without colours the quad is grey.
+  scene.meshes[0].colors.clear();
+  const RenderResult grey = renderScene(scene, 64);
+  vec3 greyMean(0.0f);
+  for (const vec3& v : grey.image.pixels) greyMean += v / float(grey.image.pixels.size());
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(greyMean[c], 0.8f, 0.01f) << c;
+}
+
 TEST(Integrator, EmissionTexturesModulateEmittersSeenAndSampled) {
   // Emission 3 times a texture dark on the left half of the quad and white on the right.
   std::vector<vec3> texels(8, vec3(0.0f));

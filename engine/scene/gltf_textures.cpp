@@ -1,0 +1,100 @@
+#include "scene/gltf_textures.h"
+
+#include "scene/gltf_accessors.h"
+
+#include <glm/vec2.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace penumbra::gltf {
+
+TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
+                           Texels texels) {
+  const std::string where = indexed("images", index);
+  const int w = source.width, h = source.height, n = source.component;
+  const size_t bytesPer = source.bits == 16 ? 2 : 1;
+  if (w <= 0 || h <= 0 || n < 1 || n > 4 || (source.bits != 8 && source.bits != 16) ||
+      source.image.size() != size_t(w) * size_t(h) * size_t(n) * bytesPer)
+    fail(path, where,
+         (source.uri.empty() || source.uri.rfind("data:", 0) == 0 ? std::string("its data")
+                                                                  : "'" + source.uri + "'") +
+             " could not be read or decoded as an image");
+  // The channels kept: alpha alone for coverage (none without one), grey or RGB otherwise.
+  if (texels == Texels::Alpha && n != 2 && n != 4) return {};
+  const int first = texels == Texels::Alpha ? n - 1 : 0;
+  const size_t channels = texels == Texels::Alpha || n < 3 ? 1 : 3;
+  const size_t count = size_t(w) * size_t(h) * channels;
+  std::vector<uint8_t> bytes(bytesPer == 1 ? count : 0);
+  std::vector<float> values(bytesPer == 2 ? count : 0);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t at = ((i / channels) * size_t(n) + size_t(first) + i % channels) * bytesPer;
+    if (bytesPer == 1) {
+      bytes[i] = source.image[at];
+    } else {
+      const float v = float(source.image[at] | source.image[at + 1] << 8) / 65535.0f;
+      values[i] = texels == Texels::Color ? srgbToLinear(v) : v;
+    }
+  }
+  // Shading lookups read the mip levels; coverage is tested at level 0 alone (by the
+  // acceleration structure's filter), so it has none.
+  const bool mips = texels != Texels::Alpha;
+  if (bytesPer == 2) return makeTextureImageFloat(w, h, int(channels), std::move(values), mips);
+  return makeTextureImage8(w, h, int(channels), std::move(bytes),
+                           texels == Texels::Color ? TexelEncoding::Srgb8 : TexelEncoding::Linear8,
+                           mips);
+}
+
+TextureWrap wrapMode(const std::string& path, int mode, const std::string& where) {
+  switch (mode) {
+    case -1:
+    case 10497:
+      return TextureWrap::Repeat;
+    case 33071:
+      return TextureWrap::ClampToEdge;
+    case 33648:
+      return TextureWrap::MirroredRepeat;
+    default:
+      fail(path, where,
+           "wrap mode " + std::to_string(mode) +
+               " is not REPEAT (10497), CLAMP_TO_EDGE (33071) or "
+               "MIRRORED_REPEAT (33648)");
+  }
+}
+
+void textureTransform(const std::string& path, const tinygltf::ExtensionMap& extensions,
+                      const std::string& where, Texture& t, int& texCoord) {
+  const auto it = extensions.find("KHR_texture_transform");
+  if (it == extensions.end() || !it->second.IsObject()) return;
+  const tinygltf::Value& e = it->second;
+  const std::string at = where + ".extensions.KHR_texture_transform";
+  auto pair = [&](const char* key, double fallback) {
+    glm::dvec2 v(fallback);
+    if (!e.Has(key)) return v;
+    const tinygltf::Value& a = e.Get(key);
+    if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+      fail(path, at + "." + key, "must be an array of two numbers");
+    v = glm::dvec2(a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble());
+    return v;
+  };
+  const glm::dvec2 offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+  double rotation = 0.0;
+  if (e.Has("rotation")) {
+    if (!e.Get("rotation").IsNumber()) fail(path, at + ".rotation", "must be a number");
+    rotation = e.Get("rotation").GetNumberAsDouble();
+  }
+  if (!std::isfinite(offset.x + offset.y + scale.x + scale.y + rotation))
+    fail(path, at, "offset, rotation and scale must be finite");
+  if (e.Has("texCoord") && e.Get("texCoord").IsInt()) texCoord = e.Get("texCoord").GetNumberAsInt();
+  // glTF's map: u' = c sx u + s sy v + ox, v' = -s sx u + c sy v + oy. With v = 1 - v_ours on
+  // both sides it becomes uvLinear (columns below) and uvOffset.
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  t.uvLinear = glm::mat2(glm::vec2(float(c * scale.x), float(s * scale.x)),
+                         glm::vec2(float(-s * scale.y), float(c * scale.y)));
+  t.uvOffset = glm::vec2(float(s * scale.y + offset.x), float(1.0 - c * scale.y - offset.y));
+  t.uvTransformed = t.uvLinear != glm::mat2(1.0f) || t.uvOffset != glm::vec2(0.0f);
+}
+
+}  // namespace penumbra::gltf

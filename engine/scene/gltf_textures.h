@@ -1,0 +1,36 @@
+// A glTF file's textures for gltf_io.cpp: its decoded images turned into ours (8 bits stay 8
+// bits, 16 become float), its samplers' wrap modes and KHR_texture_transform's uv maps. Errors
+// name the file and the element. Internal to the glTF reader.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <string>
+
+namespace penumbra::gltf {
+
+// How a texture's texels become ours: colour (sRGB, RGB or grey), data (raw values, for
+// normal maps and metallic-roughness) or coverage (the alpha channel alone). 8-bit images stay
+// 8-bit, 16-bit ones become float; the factors are applied at lookup (Texture::factor).
+enum class Texels { Color, Data, Alpha };
+
+// A decoded glTF image (images[index]) turned into one of ours; empty for coverage of an image
+// without alpha (the material's factor alone is its coverage).
+TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
+                           Texels texels);
+
+// A sampler's wrap mode (10497 REPEAT, and -1, tinygltf's "not given"; 33071 CLAMP_TO_EDGE;
+// 33648 MIRRORED_REPEAT); another value throws SceneError naming `where`.
+TextureWrap wrapMode(const std::string& path, int mode, const std::string& where);
+
+// A texture reference's KHR_texture_transform (offset, rotation counter-clockwise in radians,
+// scale; uv' = T R S uv in glTF's uv, whose v runs down the image), if `extensions` has one,
+// as an affine map of this engine's uv (v up) into `t`; its texCoord overrides `texCoord`.
+// Malformed values throw SceneError naming `where`.
+void textureTransform(const std::string& path, const tinygltf::ExtensionMap& extensions,
+                      const std::string& where, Texture& t, int& texCoord);
+
+}  // namespace penumbra::gltf
