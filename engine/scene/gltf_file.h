@@ -1,0 +1,25 @@
+// A glTF file's container for gltf_io.cpp: its bytes, the JSON of a .gltf or of a .glb's first
+// chunk, and the URIs of its buffers and images (data: or a relative path, nothing else), with
+// required mesh compressions refused. Errors name the file and the element. Internal to the
+// glTF reader.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace penumbra::gltf {
+
+// The whole file; throws SceneError naming it when it cannot be read.
+std::string readFileBytes(const std::string& path);
+
+// The JSON part of a .gltf (`binary` false: the bytes themselves), or of a .glb (its first
+// chunk, after its header is checked).
+std::string jsonText(const std::string& path, const std::string& bytes, bool binary);
+
+// Checks every buffer's and image's URI, and refuses a file that requires mesh compression;
+// returns the files the relative URIs name, and each image's URI (empty for one in a buffer
+// view) in `imageUris`.
+std::vector<std::string> checkUris(const std::string& path, const std::string& json,
+                                   std::vector<std::string>& imageUris);
+
+}  // namespace penumbra::gltf
