@@ -585,6 +585,39 @@ std::optional<Image8> readImage8(const std::string& path) {
   return image;
 }
 
+DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size) {
+  const std::vector<unsigned char> file(bytes, bytes + size);
+  const bool png = startsWith(file, "\x89PNG\r\n\x1a\n", 8);
+  if (!png && !startsWith(file, "\xff\xd8\xff", 3))
+    fail(name, "not a PNG or JPEG image (glTF's image formats)");
+  checkPngChunks(name, file);
+  if (size > size_t(std::numeric_limits<int>::max())) fail(name, "image too large");
+  DecodedImage image;
+  if (!stbi_info_from_memory(bytes, int(size), &image.width, &image.height, &image.channels))
+    fail(name, stbReason());
+  const uint64_t samples = uint64_t(std::max(image.width, 0)) *
+                           uint64_t(std::max(image.height, 0)) * uint64_t(image.channels);
+  if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(size)))
+    fail(name, "its header's " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                   " pixels are too many for an image of " + std::to_string(size) + " bytes");
+  image.bits = png && stbi_is_16_bit_from_memory(bytes, int(size)) ? 16 : 8;
+  int width = 0, height = 0, channels = 0;
+  std::unique_ptr<void, decltype(&stbi_image_free)> decoded(
+      image.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(
+                             bytes, int(size), &width, &height, &channels, image.channels))
+                       : static_cast<void*>(stbi_load_from_memory(bytes, int(size), &width, &height,
+                                                                  &channels, image.channels)),
+      &stbi_image_free);
+  if (!decoded) fail(name, stbReason());
+  if (width != image.width || height != image.height)
+    fail(name, "cannot decode image: its size changed while it was decoded");
+  const size_t length =
+      size_t(width) * size_t(height) * size_t(image.channels) * size_t(image.bits / 8);
+  const auto* first = static_cast<const uint8_t*>(decoded.get());
+  image.data.assign(first, first + length);
+  return image;
+}
+
 std::string lowercaseExtension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

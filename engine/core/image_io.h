@@ -39,6 +39,16 @@ struct Image8 {
 // 16-bit PNG files, which readImage reads as float. Throws ImageIoError as readImage does.
 std::optional<Image8> readImage8(const std::string& path);
 
+// A PNG or JPEG held in memory (a glTF file's image), decoded with the checks a file gets
+// (damaged PNG chunks, headers asking for too many pixels): `channels` as stored (1-4), `bits`
+// 8, or 16 for a 16-bit PNG (two bytes a value, little-endian), top row first. Any other
+// contents are refused. `name` starts every error message ("<name>: <reason>").
+struct DecodedImage {
+  int width = 0, height = 0, channels = 0, bits = 8;
+  std::vector<uint8_t> data;
+};
+DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size);
+
 // Writes an image by extension (case-insensitive), atomically (see writeFileAtomically):
 //   .exr  float32 RGB, ZIP compressed       .pfm  little-endian float RGB
 //   .png  8-bit sRGB after scaling by 2^exposureStops and clamping to [0,1]

@@ -65,8 +65,8 @@ mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t 
 class Converter {
  public:
   Converter(const std::string& path, const tinygltf::Model& model, const GltfOptions& options,
-            GltfData& out)
-      : path_(path), model_(model), options_(options), out_(out) {}
+            const ImagesNotRead& imagesNotRead, GltfData& out)
+      : path_(path), model_(model), options_(options), imagesNotRead_(imagesNotRead), out_(out) {}
 
   void materials() {
     for (size_t i = 0; i < model_.materials.size(); ++i) out_.materials.push_back(material(i));
@@ -185,8 +185,23 @@ class Converter {
       fail(path_, where, "texture " + std::to_string(index) + " does not exist");
     const tinygltf::Texture& gltfTexture = model_.textures[size_t(index)];
     const int source = gltfTexture.source;
-    if (source < 0 || size_t(source) >= model_.images.size())
+    const std::string textureWhere = indexed("textures", size_t(index));
+    if (source < 0 || size_t(source) >= model_.images.size()) {
+      // An image only in an extension's format: left out, the factor alone is used.
+      for (const char* e : kImageFormatExtensions)
+        if (gltfTexture.extensions.count(e)) {
+          warn(textureWhere + ": its image is only in " + e +
+               "'s format, which is not read: the texture is left out (its factor is used)");
+          return -1;
+        }
       fail(path_, where, "its texture has no image");
+    }
+    const auto notRead = imagesNotRead_.find(source);
+    if (notRead != imagesNotRead_.end()) {
+      warn(textureWhere + ": " + indexed("images", size_t(source)) + " is " + notRead->second +
+           ", which is not read: the texture is left out (its factor is used)");
+      return -1;
+    }
     Texture t;
     t.kind = Texture::Kind::Image;
     t.factor = factor;
@@ -646,6 +661,7 @@ class Converter {
   const std::string& path_;
   const tinygltf::Model& model_;
   const GltfOptions& options_;
+  const ImagesNotRead& imagesNotRead_;
   GltfData& out_;
   std::vector<char> onPath_;
   std::vector<std::pair<int, mat4>> cameraNodes_;
@@ -680,6 +696,8 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary), imageUris);
 
   tinygltf::TinyGLTF loader;
+  ImagesNotRead imagesNotRead;
+  loader.SetImageLoader(loadGltfImage, &imagesNotRead);
   tinygltf::Model model;
   std::string err, warn;
   const std::string base = fs::path(path).parent_path().string();
@@ -692,9 +710,9 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   if (!ok || !err.empty()) {
     while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
     // tinygltf names a broken image by its index: add the file it was read from.
-    const size_t at = err.find("image[");
+    const size_t at = err.find("images[");
     if (at != std::string::npos) {
-      const size_t index = std::strtoul(err.c_str() + at + 6, nullptr, 10);
+      const size_t index = std::strtoul(err.c_str() + at + 7, nullptr, 10);
       if (index < imageUris.size() && !imageUris[index].empty())
         err += " (file '" + imageUris[index] + "')";
     }
@@ -703,7 +721,7 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
 
   GltfData out;
   out.files = files;
-  Converter convert(path, model, options, out);
+  Converter convert(path, model, options, imagesNotRead, out);
   convert.materials();
   convert.animations();
   convert.nodes(options.camera);

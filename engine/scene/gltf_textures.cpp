@@ -2,14 +2,62 @@
 
 #include "scene/gltf_accessors.h"
 
+#include "core/image_io.h"
+
 #include <glm/vec2.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 #include <vector>
 
 namespace penumbra::gltf {
+
+namespace {
+
+bool hasMagic(const unsigned char* bytes, size_t size, size_t at, const char* magic) {
+  const size_t length = std::strlen(magic);
+  return size >= at + length && std::memcmp(bytes + at, magic, length) == 0;
+}
+
+// The format of an extension's image ("WebP", "KTX2", "AVIF") by its contents or its MIME
+// type; null for any other.
+const char* extensionFormat(const unsigned char* bytes, size_t size, const std::string& mime) {
+  if ((hasMagic(bytes, size, 0, "RIFF") && hasMagic(bytes, size, 8, "WEBP")) ||
+      mime == "image/webp")
+    return "WebP";
+  if (hasMagic(bytes, size, 0, "\xabKTX 20\xbb") || mime == "image/ktx2") return "KTX2";
+  if (hasMagic(bytes, size, 4, "ftypavi") || mime == "image/avif") return "AVIF";
+  return nullptr;
+}
+
+}  // namespace
+
+bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::string*, int, int,
+                   const unsigned char* bytes, int size, void* user) {
+  const size_t length = size > 0 ? size_t(size) : 0;
+  if (const char* format = extensionFormat(bytes, length, image->mimeType)) {
+    (*static_cast<ImagesNotRead*>(user))[index] = format;
+    return true;
+  }
+  try {
+    DecodedImage decoded =
+        decodePngOrJpeg(indexed("images", size_t(std::max(index, 0))), bytes, length);
+    image->width = decoded.width;
+    image->height = decoded.height;
+    image->component = decoded.channels;
+    image->bits = decoded.bits;
+    image->pixel_type = decoded.bits == 16 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                           : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image = std::move(decoded.data);
+    return true;
+  } catch (const ImageIoError& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+}
 
 TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
                            Texels texels) {

@@ -8,6 +8,7 @@
 #include <tiny_gltf.h>
 
 #include <cstddef>
+#include <map>
 #include <string>
 
 namespace penumbra::gltf {
@@ -21,6 +22,20 @@ enum class Texels { Color, Data, Alpha };
 // without alpha (the material's factor alone is its coverage).
 TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
                            Texels texels);
+
+// The images tinygltf left undecoded, by index: their format ("WebP", "KTX2", "AVIF").
+using ImagesNotRead = std::map<int, std::string>;
+// The extensions that give a texture an image in one of those formats.
+inline constexpr const char* kImageFormatExtensions[] = {"KHR_texture_basisu", "EXT_texture_webp",
+                                                         "EXT_texture_avif"};
+
+// tinygltf's image loader (TinyGLTF::SetImageLoader, `user` an ImagesNotRead): PNG and JPEG
+// decoded by decodePngOrJpeg (its checks against damaged files; 8 or 16 bits, the channels as
+// stored); WebP, KTX2 and AVIF, the formats of extensions, left undecoded and noted, so that
+// a texture with a PNG or JPEG fallback still loads; anything else an error naming the image.
+bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::string* warn,
+                   int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
+                   void* user);
 
 // A sampler's wrap mode (10497 REPEAT, and -1, tinygltf's "not given"; 33071 CLAMP_TO_EDGE;
 // 33648 MIRRORED_REPEAT); another value throws SceneError naming `where`.

@@ -717,6 +717,60 @@ TEST(Gltf, CompressedMeshesThatAreRequiredAreAnErrorNamingTheCompression) {
   }
 }
 
+TEST(Gltf, ImagesInExtensionFormatsAreLeftOutWithAWarningAndTheirFallbacksRead) {
+  const std::string buffer = quadBuffer();
+  const std::string png = pngUri(1, 1, 3, {255, 0, 0});
+  // Contents whose magic is WebP's and KTX2's (a data: URI's type is not what decides).
+  const std::string webp =
+      "data:image/png;base64," + base64(std::string("RIFF\x10\0\0\0WEBPVP8 ", 16));
+  const std::string ktx2 =
+      "data:image/png;base64," + base64(std::string("\xabKTX 20\xbb\r\n\x1a\n\0\0\0\0", 16));
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", webp}}, {{"uri", png}}, {{"uri", ktx2}}};
+  j["textures"] = {
+      // WebP with a PNG fallback: the PNG is read.
+      {{"source", 1}, {"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}},
+      // KTX2 only, through the extension: left out.
+      {{"extensions", {{"KHR_texture_basisu", {{"source", 2}}}}}},
+      // A WebP image as the texture's own source: left out.
+      {{"source", 0}}};
+  j["extensionsUsed"].push_back("EXT_texture_webp");
+  j["extensionsUsed"].push_back("KHR_texture_basisu");
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 1}};
+  j["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 2}};
+  const GltfData g = loadGltf(writeGltf("formats.gltf", j));
+  ASSERT_GE(g.materials[0].albedoTexture, 0);
+  const Texture& fallback = g.textures[size_t(g.materials[0].albedoTexture)];
+  EXPECT_EQ(textureTexel(g.images[size_t(fallback.imageIndex)], 0, 0, 0), vec3(1, 0, 0));
+  EXPECT_EQ(g.materials[1].albedoTexture, -1);
+  EXPECT_EQ(g.materials[3].albedoTexture, -1);
+  std::string all;
+  for (const std::string& w : g.warnings) all += w + "\n";
+  for (const char* part : {"textures[1]: its image is only in KHR_texture_basisu's format",
+                           "textures[2]: images[0] is WebP, which is not read"})
+    EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
+  EXPECT_EQ(all.find("textures[0]"), std::string::npos) << all;
+}
+
+TEST(Gltf, ImagesThatAreNotPngOrJpegAreAnErrorNamingThem) {
+  // A 16-bit PGM (stb's PNM reader once handed the 16-bit path an 8-bit buffer), a GIF, and
+  // a PNG whose chunk claims more bytes than there are.
+  const std::string buffer = quadBuffer();
+  std::vector<uint8_t> damaged = encodePng8(1, 1, 3, {1, 2, 3});
+  damaged[8] = 0x7f;  // the IHDR chunk's length
+  for (const std::string& contents :
+       {std::string("P5\n2 2\n65535\n") + std::string(8, '\x7f'), std::string("GIF89a\0\0"),
+        std::string(damaged.begin(), damaged.end())}) {
+    Json j = quadGltf(dataUri(buffer), buffer.size());
+    j["images"] = {{{"uri", "data:image/png;base64," + base64(contents)}}};
+    j["textures"] = {{{"source", 0}}};
+    j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    expectSceneError([&] { loadGltf(writeGltf("bad_image.gltf", j)); },
+                     {"bad_image.gltf", "images[0]"});
+  }
+}
+
 TEST(Gltf, AMissingImageFileIsAnErrorNamingIt) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
