@@ -281,13 +281,18 @@ class Converter {
     }
     if (m.occlusionTexture.index >= 0)
       warn(where + ": occlusionTexture is ignored (a path tracer computes occlusion)");
-    if (m.alphaMode == "MASK") {
+    // MASK: holes below the cutoff; BLEND: the coverage is the chance that a ray stops.
+    if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
       out.alpha = std::clamp(alpha, 0.0f, 1.0f);
-      out.alphaCutoff = std::isfinite(m.alphaCutoff) ? std::max(float(m.alphaCutoff), 0.0f) : 0.5f;
+      if (m.alphaMode == "MASK")
+        out.alphaCutoff =
+            std::isfinite(m.alphaCutoff) ? std::max(float(m.alphaCutoff), 0.0f) : 0.5f;
+      else
+        out.alphaBlend = true;
       out.alphaTexture =
           texture(pbr.baseColorTexture, where + ".baseColorTexture", Texels::Alpha, vec3(1.0f));
-    } else if (m.alphaMode == "BLEND") {
-      warn(where + ": alphaMode BLEND is drawn opaque (MASK cut-outs are rendered)");
+      // Fully covered: nothing to test.
+      if (out.alphaBlend && out.alpha >= 1.0f && out.alphaTexture < 0) out.alphaBlend = false;
     }
     if (m.emissiveFactor.size() == 3) {
       const float strength = float(extensionNumber(m.extensions, "KHR_materials_emissive_strength",

@@ -87,8 +87,11 @@ struct Material {
   int alphaTexture = -1;              // cut-out: coverage in the texture's first channel; -1: none
   float alpha = 1.0f;                 // coverage factor (times the texture's)
   float alphaCutoff = -1.0f;          // coverage below it is a hole; negative: opaque
+  // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
+  // per ray (stochastic transparency), instead of a cutoff.
+  bool alphaBlend = false;
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
-  bool hasCutouts() const { return alphaCutoff >= 0.0f; }
+  bool hasCutouts() const { return alphaCutoff >= 0.0f || alphaBlend; }
 };
 
 // A light that is a point or a direction (glTF's KHR_lights_punctual): it cannot be hit by a

@@ -8,6 +8,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -22,8 +23,9 @@ namespace {
 struct CutoutMesh {
   struct Coverage {
     float alpha = 1.0f, cutoff = -1.0f;
-    int image = -1;   // into Accel::Impl::cutoutImages; -1: the factor alone
-    Texture mapping;  // the texture's wrap modes and uv transform
+    bool blend = false;  // the coverage is the chance of a stop, not tested against `cutoff`
+    int image = -1;      // into Accel::Impl::cutoutImages; -1: the factor alone
+    Texture mapping;     // the texture's wrap modes and uv transform
   };
   std::vector<uint32_t> indices;
   std::vector<vec2> uvs;
@@ -31,10 +33,12 @@ struct CutoutMesh {
   std::vector<Coverage> coverage;  // per material id of the scene
   const std::vector<TextureImage>* images = nullptr;
 
-  // A hole: the material's coverage at the hit's uv is below its cutoff.
-  bool isHole(uint32_t prim, float u, float v) const {
+  // A hole: the material's coverage at the hit's uv is below its cutoff or, blended, below
+  // the ray's own number in [0, 1) (`chance`, asked for only then).
+  template <typename Chance>
+  bool isHole(uint32_t prim, float u, float v, Chance chance) const {
     const Coverage& c = coverage[materialIds[prim]];
-    if (c.cutoff < 0) return false;
+    if (c.cutoff < 0 && !c.blend) return false;
     float a = c.alpha;
     if (c.image >= 0 && !uvs.empty()) {
       const uint32_t* idx = &indices[3 * size_t(prim)];
@@ -42,16 +46,38 @@ struct CutoutMesh {
       a *= sampleImageBilinear((*images)[size_t(c.image)], textureUv(c.mapping, uv), c.mapping.wrap)
                .x;
     }
-    return a < c.cutoff;
+    return c.blend ? !(chance() < a) : a < c.cutoff;
   }
 };
+
+// A number in [0, 1) that only the ray and the primitive decide, so that a ray meets a blended
+// surface the same way in its intersection and its occlusion query, whatever the thread: the
+// ray's origin, direction and time hashed with the primitive (Wellons' lowbias32 mixer).
+float rayChance(const RTCFilterFunctionNArguments* args, unsigned i, uint32_t prim) {
+  const unsigned n = args->N;
+  const float values[] = {RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+                          RTCRayN_org_z(args->ray, n, i), RTCRayN_dir_x(args->ray, n, i),
+                          RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i),
+                          RTCRayN_time(args->ray, n, i)};
+  uint32_t h = prim * 0x9e3779b9u + 0x632be5abu;
+  for (const float f : values) {
+    h ^= std::bit_cast<uint32_t>(f);
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+  }
+  return float(h >> 8) * 0x1p-24f;
+}
 
 void cutoutFilter(const RTCFilterFunctionNArguments* args) {
   const auto* mesh = static_cast<const CutoutMesh*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    if (mesh->isHole(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
-                     RTCHitN_v(args->hit, args->N, i)))
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    if (mesh->isHole(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i),
+                     [&] { return rayChance(args, i, prim); }))
       args->valid[i] = 0;
   }
 }
@@ -140,6 +166,7 @@ void* Accel::addCutouts(const Scene& scene, const Mesh& mesh, std::vector<int>& 
     if (!m.hasCutouts()) continue;
     c.alpha = m.alpha;
     c.cutoff = m.alphaCutoff;
+    c.blend = m.alphaBlend;
     if (m.alphaTexture < 0) continue;
     int& image = alphaImages[size_t(m.alphaTexture)];
     const Texture& t = scene.textures[size_t(m.alphaTexture)];

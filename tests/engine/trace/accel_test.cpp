@@ -84,5 +84,37 @@ TEST(Accel, RaysPassThroughTheHolesOfACutout) {
   EXPECT_FALSE(Accel(scene).intersect(ray(0.6f), 0.0f, 100.0f, hit));
 }
 
+TEST(Accel, BlendedSurfacesStopRaysWithTheChanceOfTheirCoverage) {
+  // The quad of the test above, blended with coverage 0.3: of many rays, about 0.3 stop; each
+  // ray's intersection and occlusion query agree, and it meets the quad the same way again.
+  Scene scene = parseSceneJson(R"({
+    "materials": {"glass": {"type": "diffuse"}},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "glass",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})",
+                               "blend.json", ".");
+  scene.materials[0].alphaBlend = true;
+  scene.materials[0].alpha = 0.3f;
+  const Accel accel(scene);
+  const int rays = 4000;
+  int stopped = 0;
+  Hit hit;
+  for (int i = 0; i < rays; ++i) {
+    const Ray ray{
+        vec3(-0.9f + 1.8f * float(i % 64) / 64.0f, -0.9f + 1.8f * float(i / 64) / 64.0f, 5),
+        vec3(0, 0, -1), 0.0f};
+    const bool stops = accel.intersect(ray, 0.0f, 100.0f, hit);
+    stopped += stops;
+    EXPECT_EQ(accel.occluded(ray, 0.0f, 100.0f), stops) << i;
+    EXPECT_EQ(accel.intersect(ray, 0.0f, 100.0f, hit), stops) << i;
+  }
+  // Binomial: standard deviation sqrt(0.3 * 0.7 / 4000) = 0.0072.
+  EXPECT_NEAR(double(stopped) / rays, 0.3, 0.03);
+  // Coverage 1 stops every ray, 0 none.
+  scene.materials[0].alpha = 1.0f;
+  EXPECT_TRUE(Accel(scene).intersect(Ray{vec3(0.1f, 0.2f, 5), vec3(0, 0, -1), 0}, 0, 100, hit));
+  scene.materials[0].alpha = 0.0f;
+  EXPECT_FALSE(Accel(scene).intersect(Ray{vec3(0.1f, 0.2f, 5), vec3(0, 0, -1), 0}, 0, 100, hit));
+}
+
 }  // namespace
 }  // namespace penumbra

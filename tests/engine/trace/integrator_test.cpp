@@ -384,6 +384,23 @@ TEST(Integrator, VertexColoursScaleTheBaseColour) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(greyMean[c], 0.8f, 0.01f) << c;
 }
 
+TEST(Integrator, ABlendedSurfaceMixesItselfWithWhatIsBehindByItsCoverage) {
+  // A diffuse quad of albedo 0.5 and coverage 0.4 fills the view under a white sky, which is
+  // also the backdrop: 0.4 of the camera rays see the lit quad (0.5), 0.6 the backdrop (1).
+  // Light reaching the quad is not blocked by anything: 0.4 x 0.5 + 0.6 x 1 = 0.8.
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 10},
+    "background": [1, 1, 1],
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  scene.materials[0].alphaBlend = true;
+  scene.materials[0].alpha = 0.4f;
+  const ImageMean m = imageMean(renderScene(scene, 256));
+  EXPECT_NEAR(m.mean, 0.8, std::max(4 * m.standardError, 5e-3)) << m.standardError;
+}
+
 TEST(Integrator, EmissionTexturesModulateEmittersSeenAndSampled) {
   // Emission 3 times a texture dark on the left half of the quad and white on the right.
   std::vector<vec3> texels(8, vec3(0.0f));

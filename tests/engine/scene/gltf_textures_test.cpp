@@ -1,0 +1,258 @@
+// glTF textures: images kept at their bit depth with their factors at lookup, normal maps,
+// cut-out and blended coverage, emission textures, samplers' wrap modes, KHR_texture_transform,
+// images in formats that are not read (WebP, KTX2: left out, their fallbacks read) and images
+// that are refused (not PNG or JPEG, damaged, missing).
+#include "scene/gltf_io.h"
+
+#include "core/image_io.h"
+#include "scene/texture_image.h"
+#include "scene/textures.h"
+#include "tests/engine/scene/expect_scene_error.h"
+#include "tests/engine/scene/gltf_test_files.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+namespace {
+
+using namespace gltf_test;
+using glm::vec2;
+using test::expectSceneError;
+
+TEST(GltfTextures, BaseColourTextureIsSrgbBytesWithTheFactorAtLookup) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // A 2x1 PNG: sRGB 255 and 128 in red.
+  const std::vector<uint8_t> png = encodePng8(2, 1, 3, {255, 0, 0, 128, 0, 0});
+  j["images"] = {{{"uri", "data:image/png;base64," + base64(std::string(png.begin(), png.end()))}}};
+  j["textures"] = {{{"source", 0}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  const GltfData g = loadGltf(writeGltf("textured.gltf", j));
+  ASSERT_GE(g.materials[0].albedoTexture, 0);
+  const Texture& t = g.textures[size_t(g.materials[0].albedoTexture)];
+  ASSERT_EQ(t.kind, Texture::Kind::Image);
+  const TextureImage& image = g.images[size_t(t.imageIndex)];
+  ASSERT_EQ(image.width(), 2);
+  EXPECT_EQ(image.encoding, TexelEncoding::Srgb8) << "8 bits stay 8 bits";
+  EXPECT_EQ(image.channels, 3);
+  EXPECT_EQ((*image.bytes)[3], 128);
+  EXPECT_EQ(textureTexel(image, 0, 1, 0).x, srgbToLinear(128.0f / 255.0f));
+  EXPECT_NEAR(t.factor.x, 0.5f, 1e-6f);
+  const Scene scene = [&] {
+    Scene s;
+    s.images = g.images;
+    return s;
+  }();
+  // At the texels' centres (v = 0.5, u = 1/4 and 3/4): the factor times the linear values.
+  EXPECT_NEAR(evalTexture(scene, t, {0.25f, 0.5f}).x, 0.5f, 1e-6f);               // 1.0 x 0.5
+  EXPECT_NEAR(evalTexture(scene, t, {0.75f, 0.5f}).x, 0.5f * 0.2158605f, 1e-6f);  // sRGB 128
+}
+
+TEST(GltfTextures, NormalMapsCutoutsAndEmissionTexturesAreRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // Image 0: RGBA, sRGB red 255 with alpha 51 and 255; image 1: a normal map texel.
+  j["images"] = {{{"uri", pngUri(2, 1, 4, {255, 0, 0, 51, 255, 0, 0, 255})}},
+                 {{"uri", pngUri(1, 1, 3, {128, 255, 128})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  Json& paint = j["materials"][0];
+  paint["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  paint["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 0.5};
+  paint["alphaMode"] = "MASK";
+  paint["alphaCutoff"] = 0.3;
+  paint["normalTexture"] = {{"index", 1}, {"scale", 0.5}};
+  paint["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
+  j["materials"][2]["emissiveTexture"] = {{"index", 0}};
+  const GltfData g = loadGltf(writeGltf("maps.gltf", j));
+  const Material& m = g.materials[0];
+  ASSERT_TRUE(m.hasCutouts());
+  EXPECT_NEAR(m.alphaCutoff, 0.3f, 1e-6f);
+  EXPECT_NEAR(m.alpha, 0.5f, 1e-6f);
+  ASSERT_GE(m.alphaTexture, 0);
+  const TextureImage& coverage = g.images[size_t(g.textures[size_t(m.alphaTexture)].imageIndex)];
+  EXPECT_EQ(coverage.channels, 1) << "coverage keeps the alpha channel alone";
+  EXPECT_EQ(coverage.levels.size(), 1u) << "coverage is tested at level 0 only";
+  EXPECT_NEAR(textureTexel(coverage, 0, 0, 0).x, 0.2f, 1e-6f) << "alpha is linear, not sRGB";
+  EXPECT_NEAR(textureTexel(coverage, 0, 1, 0).x, 1.0f, 1e-6f);
+  ASSERT_GE(m.normalTexture, 0);
+  EXPECT_NEAR(m.normalScale, 0.5f, 1e-6f);
+  const TextureImage& normals = g.images[size_t(g.textures[size_t(m.normalTexture)].imageIndex)];
+  EXPECT_EQ(normals.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(normals, 0, 0, 0).y, 1.0f, 1e-6f);
+  EXPECT_NEAR(textureTexel(normals, 0, 0, 0).x, 128.0f / 255.0f, 1e-6f)
+      << "normal maps are data, not sRGB";
+  // The metallic-roughness texture is data too: the same image, converted once.
+  EXPECT_EQ(m.metallicRoughnessTexture, m.normalTexture);
+  // The emissive material shares the colour conversion of image 0 (factor 1): one image.
+  const Material& lamp = g.materials[2];
+  ASSERT_GE(lamp.emissionTexture, 0);
+  EXPECT_EQ(lamp.emissionTexture, m.albedoTexture);
+  EXPECT_EQ(g.images.size(), 3u);
+}
+
+TEST(GltfTextures, SamplerWrapModesAndTextureTransformsAreApplied) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // A 4 x 4 RGB image whose red byte names its texel: 16 (row * 4 + column) + 8, top row first.
+  std::vector<uint8_t> texels;
+  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
+  auto red = [](int column, int row) {
+    return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8));
+  };
+  j["images"] = {{{"uri", pngUri(4, 4, 3, texels)}}};
+  j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}}};
+  j["extensionsUsed"].push_back("KHR_texture_transform");
+  // The spec's example: the lower-left quadrant, turned 90 degrees.
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 1},
+      {"extensions",
+       {{"KHR_texture_transform",
+         {{"offset", {0, 1}}, {"rotation", 1.57079632679}, {"scale", {0.5, 0.5}}}}}}};
+  // Half the image, shifted right: the top-right quadrant; and the clamping sampler.
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0},
+      {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {0.5, 0.5}}}}}}};
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+  const GltfData g = loadGltf(writeGltf("transform.gltf", j));
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
+  EXPECT_EQ(g.images.size(), 1u) << "one image, however it is mapped";
+  Scene scene;
+  scene.images = g.images;
+  // glTF's uv (s, t) runs down the image; ours is (s, 1 - t).
+  auto at = [&](const Texture& t, float s, float tt) {
+    return evalTexture(scene, t, vec2(s, 1.0f - tt)).x;
+  };
+  const Texture& turned = g.textures[size_t(g.materials[0].albedoTexture)];
+  EXPECT_TRUE(turned.wrap.repeats());
+  EXPECT_TRUE(turned.uvTransformed);
+  // (s, t) -> (t / 2, 1 - s / 2): rows 2 and 3, columns 0 and 1.
+  const float paint = 0.5f;  // the material's base colour factor
+  EXPECT_NEAR(at(turned, 0.75f, 0.25f), paint * red(0, 2), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.25f, 0.25f), paint * red(0, 3), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.25f, 0.75f), paint * red(1, 3), 1e-5f);
+  EXPECT_NEAR(at(turned, 0.75f, 0.75f), paint * red(1, 2), 1e-5f);
+  const Texture& shifted = g.textures[size_t(g.materials[1].albedoTexture)];
+  EXPECT_EQ(shifted.wrap.u, TextureWrap::ClampToEdge);
+  EXPECT_EQ(shifted.wrap.v, TextureWrap::MirroredRepeat);
+  // (s, t) -> (s / 2 + 1/2, t / 2): columns 2 and 3, rows 0 and 1.
+  EXPECT_NEAR(at(shifted, 0.25f, 0.25f), red(2, 0), 1e-5f);
+  EXPECT_NEAR(at(shifted, 0.75f, 0.75f), red(3, 1), 1e-5f);
+  // Past the right edge the clamp holds column 3; past t = 2 the mirror reads rows backwards.
+  EXPECT_NEAR(at(shifted, 2.5f, 0.25f), red(3, 0), 1e-5f);
+  // (t = 3.75 is t' = 1.875: mirrored, row 0; repeating or clamping would read row 3.)
+  EXPECT_NEAR(at(shifted, 0.25f, 3.75f), red(2, 0), 1e-5f);
+  // The footprint goes through the transform: two texels wide in the surface's uv is one
+  // texel after the scale of 1/2, so level 0 is read, not level 1.
+  const vec3 sharp = evalTexture(scene, shifted, vec2(0.25f, 0.75f), {vec2(0.5f, 0), vec2(0)});
+  EXPECT_NEAR(sharp.x, red(2, 0), 1e-5f);
+}
+
+TEST(GltfTextures, BadSamplersAndTransformsNameTheElement) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {9, 9, 9})}}};
+  j["samplers"] = {{{"wrapS", 10497}, {"wrapT", 1234}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  expectSceneError([&] { loadGltf(writeGltf("wrap.gltf", j)); },
+                   {"wrap.gltf", "samplers[0].wrapT", "1234"});
+  j["samplers"] = {{{"wrapS", 33071}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1, "two"}}}}}}};
+  expectSceneError([&] { loadGltf(writeGltf("transform.gltf", j)); },
+                   {"transform.gltf", "KHR_texture_transform.scale", "two numbers"});
+}
+
+TEST(GltfTextures, BlendedMaterialsStopRaysAsOftenAsTheirCoverage) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", pngUri(2, 1, 4, {255, 0, 0, 51, 255, 0, 0, 255})}}};
+  j["textures"] = {{{"source", 0}}};
+  j["materials"][0]["alphaMode"] = "BLEND";
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 0.5};
+  j["materials"][1]["alphaMode"] = "BLEND";  // covered everywhere: stays opaque
+  const GltfData g = loadGltf(writeGltf("blend.gltf", j));
+  const Material& m = g.materials[0];
+  EXPECT_TRUE(m.alphaBlend);
+  EXPECT_TRUE(m.hasCutouts());
+  EXPECT_LT(m.alphaCutoff, 0.0f);
+  EXPECT_NEAR(m.alpha, 0.5f, 1e-6f);
+  ASSERT_GE(m.alphaTexture, 0);
+  EXPECT_NEAR(
+      textureTexel(g.images[size_t(g.textures[size_t(m.alphaTexture)].imageIndex)], 0, 0, 0).x,
+      0.2f, 1e-6f);
+  EXPECT_FALSE(g.materials[1].hasCutouts());
+  for (const std::string& w : g.warnings) EXPECT_EQ(w.find("BLEND"), std::string::npos) << w;
+}
+
+TEST(GltfTextures, ImagesInExtensionFormatsAreLeftOutWithAWarningAndTheirFallbacksRead) {
+  const std::string buffer = quadBuffer();
+  const std::string png = pngUri(1, 1, 3, {255, 0, 0});
+  // Contents whose magic is WebP's and KTX2's (a data: URI's type is not what decides).
+  const std::string webp =
+      "data:image/png;base64," + base64(std::string("RIFF\x10\0\0\0WEBPVP8 ", 16));
+  const std::string ktx2 =
+      "data:image/png;base64," + base64(std::string("\xabKTX 20\xbb\r\n\x1a\n\0\0\0\0", 16));
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", webp}}, {{"uri", png}}, {{"uri", ktx2}}};
+  j["textures"] = {// WebP with a PNG fallback: the PNG is read.
+                   {{"source", 1}, {"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}},
+                   // KTX2 only, through the extension: left out.
+                   {{"extensions", {{"KHR_texture_basisu", {{"source", 2}}}}}},
+                   // A WebP image as the texture's own source: left out.
+                   {{"source", 0}}};
+  j["extensionsUsed"].push_back("EXT_texture_webp");
+  j["extensionsUsed"].push_back("KHR_texture_basisu");
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 1}};
+  j["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 2}};
+  const GltfData g = loadGltf(writeGltf("formats.gltf", j));
+  ASSERT_GE(g.materials[0].albedoTexture, 0);
+  const Texture& fallback = g.textures[size_t(g.materials[0].albedoTexture)];
+  EXPECT_EQ(textureTexel(g.images[size_t(fallback.imageIndex)], 0, 0, 0), vec3(1, 0, 0));
+  EXPECT_EQ(g.materials[1].albedoTexture, -1);
+  EXPECT_EQ(g.materials[3].albedoTexture, -1);
+  std::string all;
+  for (const std::string& w : g.warnings) all += w + "\n";
+  for (const char* part : {"textures[1]: its image is only in KHR_texture_basisu's format",
+                           "textures[2]: images[0] is WebP, which is not read"})
+    EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
+  EXPECT_EQ(all.find("textures[0]"), std::string::npos) << all;
+}
+
+TEST(GltfTextures, ImagesThatAreNotPngOrJpegAreAnErrorNamingThem) {
+  // A 16-bit PGM (stb's PNM reader once handed the 16-bit path an 8-bit buffer), a GIF, and
+  // a PNG whose chunk claims more bytes than there are.
+  const std::string buffer = quadBuffer();
+  std::vector<uint8_t> damaged = encodePng8(1, 1, 3, {1, 2, 3});
+  damaged[8] = 0x7f;  // the IHDR chunk's length
+  for (const std::string& contents :
+       {std::string("P5\n2 2\n65535\n") + std::string(8, '\x7f'), std::string("GIF89a\0\0"),
+        std::string(damaged.begin(), damaged.end())}) {
+    Json j = quadGltf(dataUri(buffer), buffer.size());
+    j["images"] = {{{"uri", "data:image/png;base64," + base64(contents)}}};
+    j["textures"] = {{{"source", 0}}};
+    j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    expectSceneError([&] { loadGltf(writeGltf("bad_image.gltf", j)); },
+                     {"bad_image.gltf", "images[0]"});
+  }
+}
+
+TEST(GltfTextures, AMissingImageFileIsAnErrorNamingIt) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["textures"] = {{{"source", 0}}};
+  j["images"] = {{{"uri", "missing.png"}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  expectSceneError([&] { loadGltf(writeGltf("missing_image.gltf", j)); },
+                   {"missing_image.gltf", "missing.png"});
+}
+
+}  // namespace
+}  // namespace penumbra
