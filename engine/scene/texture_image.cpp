@@ -134,12 +134,17 @@ vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texe
 }
 
 // The two texels, along one axis of n texels, that a bilinear lookup at texel coordinate x
-// (texel centres at i + 0.5) blends, and the weight of the second, under a wrap mode other
-// than Repeat (bilinear's own path): ClampToEdge extends the edge texels, MirroredRepeat reads
-// the image backwards every other period.
+// (texel centres at i + 0.5) blends, and the weight of the second: Repeat wraps round as
+// bilinear's own path does (x already taken from the fraction of uv), ClampToEdge extends the
+// edge texels, MirroredRepeat reads the image backwards every other period.
 void wrappedPair(TextureWrap wrap, float x, int n, int& i0, int& i1, float& t) {
   const float f = std::floor(x);
   t = x - f;
+  if (wrap == TextureWrap::Repeat) {
+    i0 = ((int(f) % n) + n) % n;
+    i1 = i0 + 1 == n ? 0 : i0 + 1;
+    return;
+  }
   // Far outside the image every texel is an edge texel (clamp) or the period repeats: bound
   // the coordinate before it becomes an int.
   const float period = 2.0f * float(n);
@@ -166,30 +171,16 @@ template <typename Texel>
 vec3 bilinearWrapped(const TextureImage::Level& level, int channels, glm::vec2 uv,
                      TextureWrapModes wrap, Texel texel) {
   const int w = level.width, h = level.height;
-  int x0, x1, y0, y1;
-  float tx, ty;
   // Repeat along one axis takes the same coordinates as bilinear's.
   const float x = wrap.u == TextureWrap::Repeat ? (uv.x - std::floor(uv.x)) * float(w) - 0.5f
                                                 : uv.x * float(w) - 0.5f;
   const float y = wrap.v == TextureWrap::Repeat
                       ? (1.0f - (uv.y - std::floor(uv.y))) * float(h) - 0.5f
                       : (1.0f - uv.y) * float(h) - 0.5f;
-  if (wrap.u == TextureWrap::Repeat) {
-    const float fx = std::floor(x);
-    tx = x - fx;
-    x0 = ((int(fx) % w) + w) % w;
-    x1 = x0 + 1 == w ? 0 : x0 + 1;
-  } else {
-    wrappedPair(wrap.u, x, w, x0, x1, tx);
-  }
-  if (wrap.v == TextureWrap::Repeat) {
-    const float fy = std::floor(y);
-    ty = y - fy;
-    y0 = ((int(fy) % h) + h) % h;
-    y1 = y0 + 1 == h ? 0 : y0 + 1;
-  } else {
-    wrappedPair(wrap.v, y, h, y0, y1, ty);
-  }
+  int x0, x1, y0, y1;
+  float tx, ty;
+  wrappedPair(wrap.u, x, w, x0, x1, tx);
+  wrappedPair(wrap.v, y, h, y0, y1, ty);
   const size_t row0 = level.offset + size_t(y0) * size_t(w) * size_t(channels);
   const size_t row1 = level.offset + size_t(y1) * size_t(w) * size_t(channels);
   const size_t c0 = size_t(x0) * size_t(channels), c1 = size_t(x1) * size_t(channels);

@@ -348,18 +348,26 @@ TEST(Integrator, NormalMapsTiltTheShadingNormalInTheTangentFrame) {
   }
 }
 
+// A 2 x 2 diffuse quad of `albedo` facing the camera, which sees only its middle, under a
+// uniform white sky that is also the backdrop.
+Scene quadUnderWhiteSky(float albedo) {
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8},
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 10},
+    "background": [1, 1, 1],
+    "materials": {"m": {"type": "diffuse"}},
+    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
+                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  scene.materials[0].albedo = vec3(albedo);
+  return scene;
+}
+
 TEST(Integrator, VertexColoursScaleTheBaseColour) {
   // A diffuse quad of albedo 0.8 facing the camera under a uniform white sky reflects its
   // albedo times its colour; the colours vary linearly across it, so the interpolated colour at
   // any point is that linear function there, and the image (centred on the quad) averages to
   // its value at the centre.
-  Scene scene = sceneFrom(R"({
-    "render": {"width": 8, "height": 8},
-    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 10},
-    "background": [1, 1, 1],
-    "materials": {"m": {"type": "diffuse", "albedo": 0.8}},
-    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
-                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  Scene scene = quadUnderWhiteSky(0.8f);
   ASSERT_EQ(scene.meshes.size(), 1u);
   Mesh& mesh = scene.meshes[0];
   auto colour = [](vec3 p) { return vec3(0.25f + 0.25f * p.x, 0.5f, 0.75f - 0.25f * p.y); };
@@ -388,13 +396,7 @@ TEST(Integrator, ABlendedSurfaceMixesItselfWithWhatIsBehindByItsCoverage) {
   // A diffuse quad of albedo 0.5 and coverage 0.4 fills the view under a white sky, which is
   // also the backdrop: 0.4 of the camera rays see the lit quad (0.5), 0.6 the backdrop (1).
   // Light reaching the quad is not blocked by anything: 0.4 x 0.5 + 0.6 x 1 = 0.8.
-  Scene scene = sceneFrom(R"({
-    "render": {"width": 8, "height": 8},
-    "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "fov": 10},
-    "background": [1, 1, 1],
-    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
-    "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
-                 "transform": {"rotate": [90, 1, 0, 0]}}]})");
+  Scene scene = quadUnderWhiteSky(0.5f);
   scene.materials[0].alphaBlend = true;
   scene.materials[0].alpha = 0.4f;
   const ImageMean m = imageMean(renderScene(scene, 256));
