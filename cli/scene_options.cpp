@@ -84,6 +84,11 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
   c.add_option("--env-rotation", o.environmentRotation,
                "Turns the environment about +y, in degrees (right-hand rule: +x towards -z)")
       ->check(CLI::Range(-1e6f, 1e6f));
+  c.add_option("--texture-budget", o.textureBudgetMb,
+               "Megabytes the image textures may take; past it the largest are halved (their "
+               "finest mip level dropped) until they fit, with a warning; 0: no limit (default " +
+                   std::to_string(SceneLoadOptions::kDefaultTextureBudgetBytes / 1000000) + ")")
+      ->check(CLI::Range(0.0, 1e7));
   c.add_flag("--transparent", o.transparent,
              "Camera rays that leave the scene see nothing (no environment, no background); an "
              "EXR or PNG output gets an alpha channel saying where the scene is");
@@ -119,6 +124,7 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
   SceneLoadOptions load;
   load.camera = o.camera;
   load.frameTime = o.frameTime;
+  if (o.textureBudgetMb) load.textureBudgetBytes = size_t(*o.textureBudgetMb * 1e6);
   if (o.shutterSeconds) {
     const std::string ext = std::filesystem::path(o.scenePath).extension().string();
     if (ext != ".gltf" && ext != ".glb")

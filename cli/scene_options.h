@@ -25,6 +25,7 @@ struct SceneOptions {
   std::string environment;  // --env: a map's file, or "none"
   std::optional<float> environmentStrength, environmentRotation;
   bool transparent = false;
+  std::optional<double> textureBudgetMb;  // --texture-budget
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);

@@ -60,6 +60,8 @@ nlohmann::json pixelSettings(const Scene& scene, const SceneOptions& options, in
   j["frame_time"] = options.frameTime ? nlohmann::json(*options.frameTime) : nlohmann::json();
   j["shutter_seconds"] =
       options.shutterSeconds ? nlohmann::json(*options.shutterSeconds) : nlohmann::json();
+  j["texture_budget_mb"] =
+      options.textureBudgetMb ? nlohmann::json(*options.textureBudgetMb) : nlohmann::json();
   return j;
 }
 

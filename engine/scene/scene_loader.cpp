@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -693,7 +694,32 @@ Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options) {
   return scene;
 }
 
-Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
+namespace {
+
+std::string megabytes(size_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, bytes >= 10000000 ? "%.0f MB" : "%.2f MB", double(bytes) / 1e6);
+  return text;
+}
+
+// Halves the largest image textures until they fit the budget, saying so in a warning.
+void fitTextures(const std::string& path, Scene& scene, size_t budgetBytes) {
+  if (budgetBytes == 0) return;
+  size_t before = 0;
+  for (const TextureImage& image : scene.images) before += image.byteSize();
+  if (before <= budgetBytes) return;
+  const int dropped = fitTexturesToBudget(scene.images, budgetBytes);
+  size_t after = 0;
+  for (const TextureImage& image : scene.images) after += image.byteSize();
+  scene.warnings.push_back(
+      path + ": the image textures take " + megabytes(before) + ", over the texture budget of " +
+      megabytes(budgetBytes) + ": the largest were halved " +
+      (dropped == 1 ? std::string("once") : std::to_string(dropped) + " times") +
+      " (a mip level each), leaving " + megabytes(after) +
+      " (--texture-budget MB changes the budget)");
+}
+
+Scene loadSceneFile(const std::string& path, const SceneLoadOptions& options) {
   const std::string ext = lowercaseExtension(path);
   if (!options.camera.empty() && ext != ".gltf" && ext != ".glb")
     throw SceneError(path + ": --camera picks a camera of a glTF scene; this is a '" + ext +
@@ -709,6 +735,14 @@ Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
                      "' (expected .json, .gltf, .glb or .obj)");
   const std::string text = readTextFile(path);
   return parseSceneJson(text, path, fs::path(path).parent_path().string());
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
+  Scene scene = loadSceneFile(path, options);
+  fitTextures(path, scene, options.textureBudgetBytes);
+  return scene;
 }
 
 void replaceEnvironment(Scene& scene, const std::string& file) {

@@ -16,6 +16,10 @@ struct SceneLoadOptions {
   // long the shutter stays open (scene time [0, 1] spans that interval).
   std::optional<double> frameTime;
   double shutterSeconds = 1.0 / 48.0;
+  // The image textures' memory: past it, the largest are halved (their finest mip level
+  // dropped) until they fit, with a warning; 0 keeps every level.
+  size_t textureBudgetBytes = kDefaultTextureBudgetBytes;
+  static constexpr size_t kDefaultTextureBudgetBytes = size_t(384) * 1000 * 1000;
 };
 
 // Loads a .json scene, a .gltf / .glb scene (its first perspective camera, or the one named

@@ -221,6 +221,42 @@ size_t TextureImage::byteSize() const {
   return (bytes ? bytes->size() : 0) + (floats ? floats->size() * sizeof(float) : 0);
 }
 
+TextureImage withoutFinestLevel(const TextureImage& image) {
+  if (image.levels.size() < 2)
+    throw std::invalid_argument("texture image: no coarser level to fall back to");
+  TextureImage out;
+  out.encoding = image.encoding;
+  out.channels = image.channels;
+  const size_t start = image.levels[1].offset;
+  out.levels.assign(image.levels.begin() + 1, image.levels.end());
+  for (TextureImage::Level& l : out.levels) l.offset -= start;
+  if (image.bytes)
+    out.bytes = std::make_shared<const std::vector<uint8_t>>(
+        image.bytes->begin() + std::ptrdiff_t(start), image.bytes->end());
+  if (image.floats)
+    out.floats = std::make_shared<const std::vector<float>>(
+        image.floats->begin() + std::ptrdiff_t(start), image.floats->end());
+  return out;
+}
+
+int fitTexturesToBudget(std::vector<TextureImage>& images, size_t budgetBytes) {
+  size_t total = 0;
+  for (const TextureImage& image : images) total += image.byteSize();
+  int dropped = 0;
+  while (total > budgetBytes) {
+    TextureImage* largest = nullptr;
+    for (TextureImage& image : images)
+      if (image.levels.size() > 1 && (!largest || image.byteSize() > largest->byteSize()))
+        largest = &image;
+    if (!largest) break;
+    const size_t before = largest->byteSize();
+    *largest = withoutFinestLevel(*largest);
+    total -= before - largest->byteSize();
+    ++dropped;
+  }
+  return dropped;
+}
+
 TextureImage makeTextureImage8(int width, int height, int channels, std::vector<uint8_t> texels,
                                TexelEncoding encoding, bool mips) {
   checkSize(width, height, channels, texels.size());

@@ -84,6 +84,15 @@ float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy);
 // textureMipLevel (bilinear at level 0 for a zero footprint).
 vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy,
                    TextureWrapModes wrap = {});
+// The image from its second level down: half the size, a quarter of the texels. The image
+// must have more than one level.
+TextureImage withoutFinestLevel(const TextureImage& image);
+// Drops the finest level of the largest images, one level at a time (largest first, ties by
+// index), until all of them take at most `budgetBytes` or none has a coarser level to fall
+// back to. Returns how many levels were dropped. A lookup with a footprint reads the same
+// coarser levels as before; only one magnified past the new level 0 sees fewer texels.
+int fitTexturesToBudget(std::vector<TextureImage>& images, size_t budgetBytes);
+
 // The mean luminance of `factor` times each texel of level 0 (0 for an empty image).
 float imageMeanLuminance(const TextureImage& image, vec3 factor);
 

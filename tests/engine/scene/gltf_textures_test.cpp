@@ -4,6 +4,8 @@
 // that are refused (not PNG or JPEG, damaged, missing).
 #include "scene/gltf_io.h"
 
+#include "scene/scene_loader.h"
+
 #include "core/image_io.h"
 #include "scene/texture_image.h"
 #include "scene/textures.h"
@@ -252,6 +254,33 @@ TEST(GltfTextures, AMissingImageFileIsAnErrorNamingIt) {
   j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   expectSceneError([&] { loadGltf(writeGltf("missing_image.gltf", j)); },
                    {"missing_image.gltf", "missing.png"});
+}
+
+TEST(GltfTextures, TexturesOverTheBudgetAreHalvedWithAWarning) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["images"] = {{{"uri", pngUri(64, 64, 3, std::vector<uint8_t>(64 * 64 * 3, 200))}}};
+  j["textures"] = {{{"source", 0}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  const std::string path = writeGltf("budget.gltf", j);
+  const Scene full = loadScene(path);
+  ASSERT_EQ(full.images.size(), 1u);
+  EXPECT_EQ(full.images[0].width(), 64);
+  for (const std::string& w : full.warnings) EXPECT_EQ(w.find("budget"), std::string::npos) << w;
+  SceneLoadOptions options;
+  // The image takes 16383 bytes with its mips; at 32 x 32, 4095.
+  options.textureBudgetBytes = 5000;
+  const Scene halved = loadScene(path, options);
+  EXPECT_EQ(halved.images[0].width(), 32);
+  EXPECT_LE(halved.images[0].byteSize(), 5000u);
+  ASSERT_FALSE(halved.warnings.empty());
+  EXPECT_NE(halved.warnings.back().find(
+                "textures take 0.02 MB, over the texture budget of 0.01 MB: the largest were "
+                "halved once (a mip level each), leaving 0.00 MB"),
+            std::string::npos)
+      << halved.warnings.back();
+  options.textureBudgetBytes = 0;  // no limit
+  EXPECT_EQ(loadScene(path, options).images[0].width(), 64);
 }
 
 }  // namespace

@@ -222,6 +222,56 @@ TEST(TextureImage, WrapModesActPerAxis) {
   EXPECT_FLOAT_EQ(sampleTextureLevel(bytes, 0, vec2(0.0f, 0.5f)).x, 0.5f);
 }
 
+TEST(TextureImage, WithoutTheFinestLevelTheCoarserLevelsAreUnchanged) {
+  std::vector<uint8_t> bytes(8 * 4 * 3);
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(i * 37 % 251);
+  const TextureImage image = makeTextureImage8(8, 4, 3, bytes, TexelEncoding::Srgb8);
+  const TextureImage half = withoutFinestLevel(image);
+  ASSERT_EQ(half.levels.size(), image.levels.size() - 1);
+  EXPECT_EQ(half.width(), 4);
+  EXPECT_EQ(half.height(), 2);
+  EXPECT_EQ(half.encoding, TexelEncoding::Srgb8);
+  EXPECT_EQ(half.byteSize(), image.byteSize() - 8 * 4 * 3);
+  for (size_t level = 0; level < half.levels.size(); ++level)
+    for (int y = 0; y < half.levels[level].height; ++y)
+      for (int x = 0; x < half.levels[level].width; ++x)
+        EXPECT_EQ(textureTexel(half, int(level), x, y), textureTexel(image, int(level) + 1, x, y));
+  // A lookup with a footprint of two texels of the old level 0 reads the same level as before.
+  const vec2 uv(0.3f, 0.6f), dx(2.0f / 8, 0), dy(0, 2.0f / 4);
+  EXPECT_EQ(sampleTexture(half, uv, dx, dy), sampleTexture(image, uv, dx, dy));
+  // Floats too; and a single level has nothing to fall back to.
+  const TextureImage floats = makeTextureImageFloat(2, 2, 1, {1, 2, 3, 4});
+  EXPECT_FLOAT_EQ(textureTexel(withoutFinestLevel(floats), 0, 0, 0).x, 2.5f);
+  EXPECT_THROW(withoutFinestLevel(makeTextureImageFloat(2, 2, 1, {1, 2, 3, 4}, false)),
+               std::invalid_argument);
+}
+
+TEST(TextureImage, ABudgetHalvesTheLargestImagesFirstUntilTheyFit) {
+  auto grey = [](int size) {
+    return makeTextureImage8(size, size, 1, std::vector<uint8_t>(size_t(size) * size, 7),
+                             TexelEncoding::Linear8);
+  };
+  // 64 x 64 and 16 x 16 with their mips: 5461 and 341 bytes.
+  std::vector<TextureImage> images = {grey(16), grey(64)};
+  ASSERT_EQ(images[1].byteSize(), 5461u);
+  EXPECT_EQ(fitTexturesToBudget(images, 10000), 0);
+  EXPECT_EQ(images[1].width(), 64);
+  // 2000 bytes: the 64 x 64 one drops to 32 x 32 (1365), which with 341 fits.
+  EXPECT_EQ(fitTexturesToBudget(images, 2000), 1);
+  EXPECT_EQ(images[1].width(), 32);
+  EXPECT_EQ(images[0].width(), 16);
+  // 500 bytes: the larger first (32 -> 16: 341 + 341), then, of two the same size, the first
+  // (16 -> 8: 85 + 341 = 426).
+  EXPECT_EQ(fitTexturesToBudget(images, 500), 2);
+  EXPECT_LE(images[0].byteSize() + images[1].byteSize(), 500u);
+  EXPECT_EQ(images[0].width(), 8);
+  EXPECT_EQ(images[1].width(), 16);
+  // Nothing left to drop: it stops at 1 x 1.
+  fitTexturesToBudget(images, 0);
+  EXPECT_EQ(images[0].width(), 1);
+  EXPECT_EQ(images[1].width(), 1);
+}
+
 TEST(TextureImage, BadSizesAreRefused) {
   EXPECT_THROW(makeTextureImage8(2, 2, 3, std::vector<uint8_t>(11), TexelEncoding::Srgb8),
                std::invalid_argument);
