@@ -585,7 +585,7 @@ std::optional<Image8> readImage8(const std::string& path) {
   return image;
 }
 
-DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size) {
+DecodedImage inspectPngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size) {
   const std::vector<unsigned char> file(bytes, bytes + size);
   const bool png = startsWith(file, "\x89PNG\r\n\x1a\n", 8);
   if (!png && !startsWith(file, "\xff\xd8\xff", 3))
@@ -601,6 +601,11 @@ DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes
     fail(name, "its header's " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                    " pixels are too many for an image of " + std::to_string(size) + " bytes");
   image.bits = png && stbi_is_16_bit_from_memory(bytes, int(size)) ? 16 : 8;
+  return image;
+}
+
+DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size) {
+  DecodedImage image = inspectPngOrJpeg(name, bytes, size);
   int width = 0, height = 0, channels = 0;
   std::unique_ptr<void, decltype(&stbi_image_free)> decoded(
       image.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(

@@ -48,6 +48,9 @@ struct DecodedImage {
   std::vector<uint8_t> data;
 };
 DecodedImage decodePngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size);
+// The same checks and the header's size, channels and bits, without decoding (`data` empty):
+// what decodePngOrJpeg will give, or the error it would throw for the header.
+DecodedImage inspectPngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size);
 
 // Writes an image by extension (case-insensitive), atomically (see writeFileAtomically):
 //   .exr  float32 RGB, ZIP compressed       .pfm  little-endian float RGB

@@ -131,6 +131,12 @@ class Converter {
   }
 
   void warnAboutTheRest() {
+    if (texturesHalved_ > 0) {
+      size_t after = 0;
+      for (const TextureImage& image : out_.images) after += image.byteSize();
+      warn(textureBudgetWarning(fullTextureBytes_, options_.textureBudgetBytes, after,
+                                texturesHalved_));
+    }
     if (!model_.animations.empty() && !options_.animate)
       warn("animations: shown at the frame time, without motion blur (an included file)");
     if (!model_.skins.empty()) warn("skins: skinning is not supported; meshes are shown unposed");
@@ -230,7 +236,12 @@ class Converter {
       TextureImage converted =
           imageFromGltf(path_, model_.images[size_t(source)], size_t(source), texels);
       const int id = converted.empty() ? -1 : int(out_.images.size());
-      if (!converted.empty()) out_.images.push_back(std::move(converted));
+      if (!converted.empty()) {
+        fullTextureBytes_ += converted.byteSize();
+        out_.images.push_back(std::move(converted));
+        if (options_.textureBudgetBytes > 0)
+          texturesHalved_ += fitTexturesToBudget(out_.images, options_.textureBudgetBytes);
+      }
       image = imageIds_.emplace(imageKey, id).first;
     }
     int id = -1;
@@ -683,6 +694,8 @@ class Converter {
   static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
   static constexpr size_t kMaxVertices = size_t(1) << 26;
   bool anyNormals_ = false, anyUvs_ = false, anyColors_ = false;
+  size_t fullTextureBytes_ = 0;  // the images as converted, before the budget halved any
+  int texturesHalved_ = 0;
 };
 
 }  // namespace
@@ -696,7 +709,8 @@ GltfData loadGltf(const std::string& path, const std::string& cameraName) {
 GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   const std::string ext = fs::path(path).extension().string();
   const bool binary = ext == ".glb" || ext == ".GLB";
-  const std::string bytes = readFileBytes(path);
+  // Released once tinygltf has its own copy of the buffers (a .glb's can be most of the file).
+  std::string bytes = readFileBytes(path);
   std::vector<std::string> imageUris;
   const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary), imageUris);
 
@@ -712,6 +726,7 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
                                            unsigned(bytes.size()), base)
              : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()),
                                           base);
+  std::string().swap(bytes);
   if (!ok || !err.empty()) {
     while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
     // tinygltf names a broken image by its index: add the file it was read from.

@@ -31,6 +31,10 @@ struct GltfOptions {
   double shutterSeconds = 1.0 / 48.0;
   // false: every node where it is at the frame time, all in `mesh` (no motion blur).
   bool animate = true;
+  // Past this many bytes of image textures the largest are halved as each is converted
+  // (fitTexturesToBudget), with a warning, so that the full-size images never all take memory
+  // at once; 0: no limit.
+  size_t textureBudgetBytes = 0;
 };
 
 struct GltfData {

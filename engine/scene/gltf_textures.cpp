@@ -43,15 +43,17 @@ bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::str
     return true;
   }
   try {
-    DecodedImage decoded =
-        decodePngOrJpeg(indexed("images", size_t(std::max(index, 0))), bytes, length);
-    image->width = decoded.width;
-    image->height = decoded.height;
-    image->component = decoded.channels;
-    image->bits = decoded.bits;
-    image->pixel_type = decoded.bits == 16 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
-                                           : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image = std::move(decoded.data);
+    // Checked now, decoded when converted (imageFromGltf): one decoded image at a time.
+    const DecodedImage header =
+        inspectPngOrJpeg(indexed("images", size_t(std::max(index, 0))), bytes, length);
+    image->width = header.width;
+    image->height = header.height;
+    image->component = header.channels;
+    image->bits = header.bits;
+    image->pixel_type = header.bits == 16 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                          : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(bytes, bytes + length);
+    image->as_is = true;  // the file's bytes, not texels
     return true;
   } catch (const ImageIoError& e) {
     if (err) *err += std::string(e.what()) + "\n";
@@ -62,10 +64,26 @@ bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::str
 TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
                            Texels texels) {
   const std::string where = indexed("images", index);
-  const int w = source.width, h = source.height, n = source.component;
-  const size_t bytesPer = source.bits == 16 ? 2 : 1;
-  if (w <= 0 || h <= 0 || n < 1 || n > 4 || (source.bits != 8 && source.bits != 16) ||
-      source.image.size() != size_t(w) * size_t(h) * size_t(n) * bytesPer)
+  // loadGltfImage keeps the file's bytes: decoded here, with the checks it made.
+  DecodedImage decoded;
+  if (source.as_is) {
+    try {
+      decoded = decodePngOrJpeg(where, source.image.data(), source.image.size());
+    } catch (const ImageIoError& e) {
+      fail(path, "", e.what());
+    }
+  } else {
+    decoded.width = source.width;
+    decoded.height = source.height;
+    decoded.channels = source.component;
+    decoded.bits = source.bits;
+    decoded.data = source.image;
+  }
+  const std::vector<uint8_t>& texelBytes = decoded.data;
+  const int w = decoded.width, h = decoded.height, n = decoded.channels;
+  const size_t bytesPer = decoded.bits == 16 ? 2 : 1;
+  if (w <= 0 || h <= 0 || n < 1 || n > 4 || (decoded.bits != 8 && decoded.bits != 16) ||
+      texelBytes.size() != size_t(w) * size_t(h) * size_t(n) * bytesPer)
     fail(path, where,
          (source.uri.empty() || source.uri.rfind("data:", 0) == 0 ? std::string("its data")
                                                                   : "'" + source.uri + "'") +
@@ -75,20 +93,30 @@ TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& sourc
   const int first = texels == Texels::Alpha ? n - 1 : 0;
   const size_t channels = texels == Texels::Alpha || n < 3 ? 1 : 3;
   const size_t count = size_t(w) * size_t(h) * channels;
-  std::vector<uint8_t> bytes(bytesPer == 1 ? count : 0);
-  std::vector<float> values(bytesPer == 2 ? count : 0);
+  // Shading lookups read the mip levels; coverage is tested at level 0 alone (by the
+  // acceleration structure's filter), so it has none. Room for the levels is made now, so
+  // that adding them does not copy level 0.
+  const bool mips = texels != Texels::Alpha;
+  const size_t withLevels = textureValueCount(w, h, int(channels), mips);
+  std::vector<uint8_t> bytes;
+  std::vector<float> values;
+  if (bytesPer == 1) {
+    bytes.reserve(withLevels);
+    bytes.resize(count);
+  } else {
+    values.reserve(withLevels);
+    values.resize(count);
+  }
   for (size_t i = 0; i < count; ++i) {
     const size_t at = ((i / channels) * size_t(n) + size_t(first) + i % channels) * bytesPer;
     if (bytesPer == 1) {
-      bytes[i] = source.image[at];
+      bytes[i] = texelBytes[at];
     } else {
-      const float v = float(source.image[at] | source.image[at + 1] << 8) / 65535.0f;
+      const float v = float(texelBytes[at] | texelBytes[at + 1] << 8) / 65535.0f;
       values[i] = texels == Texels::Color ? srgbToLinear(v) : v;
     }
   }
-  // Shading lookups read the mip levels; coverage is tested at level 0 alone (by the
-  // acceleration structure's filter), so it has none.
-  const bool mips = texels != Texels::Alpha;
+  decoded = DecodedImage{};  // before the levels are built
   if (bytesPer == 2) return makeTextureImageFloat(w, h, int(channels), std::move(values), mips);
   return makeTextureImage8(w, h, int(channels), std::move(bytes),
                            texels == Texels::Color ? TexelEncoding::Srgb8 : TexelEncoding::Linear8,

@@ -675,6 +675,7 @@ Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options) {
   gltfOptions.camera = options.camera;
   gltfOptions.frameTime = options.frameTime;
   gltfOptions.shutterSeconds = options.shutterSeconds;
+  gltfOptions.textureBudgetBytes = options.textureBudgetBytes;
   GltfData gltf = loadGltf(path, gltfOptions);
   Scene scene;
   scene.sourcePath = path;
@@ -696,12 +697,6 @@ Scene sceneFromGltf(const std::string& path, const SceneLoadOptions& options) {
 
 namespace {
 
-std::string megabytes(size_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof text, bytes >= 10000000 ? "%.0f MB" : "%.2f MB", double(bytes) / 1e6);
-  return text;
-}
-
 // Halves the largest image textures until they fit the budget, saying so in a warning.
 void fitTextures(const std::string& path, Scene& scene, size_t budgetBytes) {
   if (budgetBytes == 0) return;
@@ -711,12 +706,7 @@ void fitTextures(const std::string& path, Scene& scene, size_t budgetBytes) {
   const int dropped = fitTexturesToBudget(scene.images, budgetBytes);
   size_t after = 0;
   for (const TextureImage& image : scene.images) after += image.byteSize();
-  scene.warnings.push_back(
-      path + ": the image textures take " + megabytes(before) + ", over the texture budget of " +
-      megabytes(budgetBytes) + ": the largest were halved " +
-      (dropped == 1 ? std::string("once") : std::to_string(dropped) + " times") +
-      " (a mip level each), leaving " + megabytes(after) +
-      " (--texture-budget MB changes the budget)");
+  scene.warnings.push_back(path + ": " + textureBudgetWarning(before, budgetBytes, after, dropped));
 }
 
 Scene loadSceneFile(const std::string& path, const SceneLoadOptions& options) {

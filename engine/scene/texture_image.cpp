@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
@@ -221,6 +222,12 @@ size_t TextureImage::byteSize() const {
   return (bytes ? bytes->size() : 0) + (floats ? floats->size() * sizeof(float) : 0);
 }
 
+size_t textureValueCount(int width, int height, int channels, bool mips) {
+  const std::vector<TextureImage::Level> levels = levelSizes(width, height, channels, mips);
+  return levels.back().offset +
+         size_t(levels.back().width) * size_t(levels.back().height) * size_t(channels);
+}
+
 TextureImage withoutFinestLevel(const TextureImage& image) {
   if (image.levels.size() < 2)
     throw std::invalid_argument("texture image: no coarser level to fall back to");
@@ -255,6 +262,21 @@ int fitTexturesToBudget(std::vector<TextureImage>& images, size_t budgetBytes) {
     ++dropped;
   }
   return dropped;
+}
+
+std::string textureBudgetWarning(size_t beforeBytes, size_t budgetBytes, size_t afterBytes,
+                                 int dropped) {
+  const auto megabytes = [](size_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, bytes >= 10000000 ? "%.0f MB" : "%.2f MB",
+                  double(bytes) / 1e6);
+    return std::string(text);
+  };
+  return "the image textures take " + megabytes(beforeBytes) + ", over the texture budget of " +
+         megabytes(budgetBytes) + ": the largest were halved " +
+         (dropped == 1 ? std::string("once") : std::to_string(dropped) + " times") +
+         " (a mip level each), leaving " + megabytes(afterBytes) +
+         " (--texture-budget MB changes the budget)";
 }
 
 TextureImage makeTextureImage8(int width, int height, int channels, std::vector<uint8_t> texels,

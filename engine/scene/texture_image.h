@@ -45,6 +45,11 @@ struct TextureImage {
   size_t byteSize() const;
 };
 
+// How many values an image of width x height with `channels` holds with its mip levels (or
+// level 0 alone): a vector of texels reserved to it is not reallocated when the levels are
+// added.
+size_t textureValueCount(int width, int height, int channels, bool mips = true);
+
 // An 8-bit image (`encoding` Srgb8 or Linear8): `texels` holds width x height pixels of
 // `channels` (1 or 3) values each, top row first. With `mips`, the pyramid down to 1x1 is
 // built (what a lookup with a footprint needs); without, only level 0 (a cut-out's coverage).
@@ -92,6 +97,10 @@ TextureImage withoutFinestLevel(const TextureImage& image);
 // back to. Returns how many levels were dropped. A lookup with a footprint reads the same
 // coarser levels as before; only one magnified past the new level 0 sees fewer texels.
 int fitTexturesToBudget(std::vector<TextureImage>& images, size_t budgetBytes);
+// What a budget did, for a warning: "the image textures take 1342 MB, over the texture budget
+// of 384 MB: the largest were halved 5 times (a mip level each), leaving 335 MB (...)".
+std::string textureBudgetWarning(size_t beforeBytes, size_t budgetBytes, size_t afterBytes,
+                                 int dropped);
 
 // The mean luminance of `factor` times each texel of level 0 (0 for an empty image).
 float imageMeanLuminance(const TextureImage& image, vec3 factor);

@@ -29,6 +29,8 @@ TEST(TextureImage, EightBitRgbTakesAtMostFourBytesATexelWithItsMips) {
   EXPECT_EQ(image.levels.back().width, 1);
   EXPECT_EQ(image.levels.back().height, 1);
   EXPECT_LE(double(image.byteSize()) / (double(size) * size), 4.0);
+  EXPECT_EQ(textureValueCount(size, size, 3), image.bytes->size());
+  EXPECT_EQ(textureValueCount(size, size, 3, false), size_t(size) * size * 3);
   // The float texture it replaces took 12 bytes a texel without mips.
   EXPECT_GE(double(image.byteSize()) / (double(size) * size), 3.0);
   EXPECT_FALSE(image.floats);
