@@ -33,6 +33,7 @@
 #include <memory>
 #include <numeric>
 #include <set>
+#include <span>
 #include <stdexcept>
 
 namespace penumbra {
@@ -410,7 +411,7 @@ constexpr uint64_t kMinSampleAllowance = uint64_t(1) << 20;
 // stb_image grows its buffer to a PNG chunk's stated length before it reads the chunk, so a
 // length field of gigabytes in a small file makes it allocate gigabytes (found by fuzzing).
 // Every chunk of a PNG must fit in the file: checked first, up to IEND.
-void checkPngChunks(const std::string& path, const std::vector<unsigned char>& bytes) {
+void checkPngChunks(const std::string& path, std::span<const unsigned char> bytes) {
   static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kSignature, 8) != 0) return;
   size_t at = 8;
@@ -432,7 +433,7 @@ void checkPngChunks(const std::string& path, const std::vector<unsigned char>& b
   }
 }
 
-bool startsWith(const std::vector<unsigned char>& bytes, const char* magic, size_t length) {
+bool startsWith(std::span<const unsigned char> bytes, const char* magic, size_t length) {
   return bytes.size() >= length && std::memcmp(bytes.data(), magic, length) == 0;
 }
 
@@ -440,7 +441,7 @@ bool startsWith(const std::vector<unsigned char>& bytes, const char* magic, size
 // which Penumbra does not list. Its PNM reader hands back an 8-bit buffer for a 16-bit file
 // whose channel count it converts, which the 16-bit path then reads past (found by fuzzing):
 // such contents are refused by their magic, whatever the file's extension says.
-void refuseUnlistedContents(const std::string& path, const std::vector<unsigned char>& bytes) {
+void refuseUnlistedContents(const std::string& path, std::span<const unsigned char> bytes) {
   const char* format = nullptr;
   if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '7')
     format = "a PNM (PBM/PGM/PPM) image";
@@ -455,6 +456,23 @@ void refuseUnlistedContents(const std::string& path, const std::vector<unsigned 
                    ", which Penumbra does not read (readable: " + kReadableFormats + ")");
 }
 
+// stb's view of a header's size and channels, refused when the bytes are too many for stb or
+// the header asks for more samples (`samplesPerPixel` a pixel; 0: its channels) than the
+// bytes can hold. `noun` ("file", "image") names the bytes in the messages.
+void checkStbHeader(const std::string& path, std::span<const unsigned char> bytes, const char* noun,
+                    int samplesPerPixel, int& width, int& height, int& channels) {
+  const std::string what(noun);
+  if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail(path, what + " too large");
+  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels))
+    fail(path, stbReason());
+  const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) *
+                           uint64_t(samplesPerPixel > 0 ? samplesPerPixel : channels);
+  if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(bytes.size())))
+    fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
+                   " pixels are too many for " + (what[0] == 'i' ? "an " : "a ") + what + " of " +
+                   std::to_string(bytes.size()) + " bytes");
+}
+
 // The file's bytes once its contents' format, PNG chunks and header's size are checked; stb's
 // view of its size and channels in width, height and channels.
 std::vector<unsigned char> readStbFile(const std::string& path, int& width, int& height,
@@ -462,13 +480,7 @@ std::vector<unsigned char> readStbFile(const std::string& path, int& width, int&
   std::vector<unsigned char> bytes = readWholeFile(path);
   refuseUnlistedContents(path, bytes);
   checkPngChunks(path, bytes);
-  if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail(path, "file too large");
-  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels))
-    fail(path, stbReason());
-  const uint64_t samples = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) * 3;
-  if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(bytes.size())))
-    fail(path, "its header's " + std::to_string(width) + "x" + std::to_string(height) +
-                   " pixels are too many for a file of " + std::to_string(bytes.size()) + " bytes");
+  checkStbHeader(path, bytes, "file", 3, width, height, channels);
   return bytes;
 }
 
@@ -586,20 +598,13 @@ std::optional<Image8> readImage8(const std::string& path) {
 }
 
 DecodedImage inspectPngOrJpeg(const std::string& name, const unsigned char* bytes, size_t size) {
-  const std::vector<unsigned char> file(bytes, bytes + size);
+  const std::span<const unsigned char> file(bytes, size);
   const bool png = startsWith(file, "\x89PNG\r\n\x1a\n", 8);
   if (!png && !startsWith(file, "\xff\xd8\xff", 3))
     fail(name, "not a PNG or JPEG image (glTF's image formats)");
   checkPngChunks(name, file);
-  if (size > size_t(std::numeric_limits<int>::max())) fail(name, "image too large");
   DecodedImage image;
-  if (!stbi_info_from_memory(bytes, int(size), &image.width, &image.height, &image.channels))
-    fail(name, stbReason());
-  const uint64_t samples = uint64_t(std::max(image.width, 0)) *
-                           uint64_t(std::max(image.height, 0)) * uint64_t(image.channels);
-  if (samples > std::max(kMinSampleAllowance, kMaxSamplesPerByte * uint64_t(size)))
-    fail(name, "its header's " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                   " pixels are too many for an image of " + std::to_string(size) + " bytes");
+  checkStbHeader(name, file, "image", 0, image.width, image.height, image.channels);
   image.bits = png && stbi_is_16_bit_from_memory(bytes, int(size)) ? 16 : 8;
   return image;
 }
