@@ -79,9 +79,9 @@ struct FilmBuffers {
     kMean = 16u  // the mean alone (kRadiance has it too)
   };
   int width = 0, height = 0;
-  std::vector<vec3> mean, variance, halfA, halfB, emission, emissionVariance;
-  std::vector<vec3> albedo, albedoVariance, normal;
-  std::vector<float> normalVariance, depth, depthVariance;
+  LargeVector<vec3> mean, variance, halfA, halfB, emission, emissionVariance;
+  LargeVector<vec3> albedo, albedoVariance, normal;
+  LargeVector<float> normalVariance, depth, depthVariance;
 };
 
 // The image's pixels. With slices enabled (a method that samples some sub-pixel slices more

@@ -52,11 +52,11 @@ constexpr unsigned kReconstructionParts =
 
 // Frees every buffer of b but the mean (which a reconstruction's input still points into).
 void releaseAllButMean(FilmBuffers& b) {
-  for (std::vector<vec3>* v :
+  for (LargeVector<vec3>* v :
        {&b.variance, &b.halfA, &b.halfB, &b.emission, &b.albedo, &b.albedoVariance, &b.normal})
-    std::vector<vec3>().swap(*v);
-  for (std::vector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
-    std::vector<float>().swap(*v);
+    LargeVector<vec3>().swap(*v);
+  for (LargeVector<float>* v : {&b.normalVariance, &b.depth, &b.depthVariance})
+    LargeVector<float>().swap(*v);
 }
 
 }  // namespace

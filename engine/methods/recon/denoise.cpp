@@ -109,7 +109,7 @@ void resize3(Planes3& planes, size_t count) {
 // identityMse receives the identity's SURE: V / demod^2 back in linear units, summed over the
 // channels (+inf where the pixel is not valid).
 SweepInput filteredDomain(const DenoiseInput& in, const DenoiseConfig& config, const Usage& use,
-                          std::vector<float>& identityMse) {
+                          LargeVector<float>& identityMse) {
   const size_t count = in.mean.size();
   SweepInput out;
   out.width = in.width;
@@ -366,8 +366,8 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
   }
   // The identity's SURE of the swept rows only.
   if (sweepFirst > 0 || sweepLast < in.height) {
-    std::vector<float>& mse = candidates[0].mse;
-    std::vector<float>(mse.begin() + ptrdiff_t(size_t(sweepFirst) * width),
+    LargeVector<float>& mse = candidates[0].mse;
+    LargeVector<float>(mse.begin() + ptrdiff_t(size_t(sweepFirst) * width),
                        mse.begin() + ptrdiff_t(size_t(sweepLast) * width))
         .swap(mse);
   }
@@ -383,7 +383,7 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
   for (detail::ScaleMaps& maps : candidates) {
     smoothedMse.push_back(boxMean(maps.mse, in.width, sweepRows, config.sureSmoothRadius,
                                   std::span<const float>(valid.data(), valid.size())));
-    if (!detail) std::vector<float>().swap(maps.mse);
+    if (!detail) LargeVector<float>().swap(maps.mse);
   }
 
   const size_t count = size_t(outLast - outFirst) * width;
@@ -422,14 +422,16 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
     candidates[0].varianceRatio.assign(in.mean.size(), 1.0f);
     for (size_t s = 0; s < candidates.size(); ++s) {
       Image image(in.width, in.height);
-      image.pixels = std::move(candidates[s].output);
+      image.pixels.assign(candidates[s].output.begin(), candidates[s].output.end());
       detail->scaleOutput.push_back(std::move(image));
-      std::vector<float> raw = candidates[s].mse, smooth = smoothedMse[s];
+      std::vector<float> raw(candidates[s].mse.begin(), candidates[s].mse.end()),
+          smooth = smoothedMse[s];
       for (float& v : raw) v /= 3.0f;
       for (float& v : smooth) v /= 3.0f;
       detail->scaleMse.push_back(std::move(raw));
       detail->scaleMseSmoothed.push_back(std::move(smooth));
-      detail->scaleVarianceRatio.push_back(std::move(candidates[s].varianceRatio));
+      detail->scaleVarianceRatio.emplace_back(candidates[s].varianceRatio.begin(),
+                                              candidates[s].varianceRatio.end());
     }
   }
   return result;

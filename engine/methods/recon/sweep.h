@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/image.h"
+#include "core/large_pages.h"
 
 #include <array>
 #include <atomic>
@@ -31,7 +32,7 @@ class Plane {
   const float* end() const { return data() + count_; }
 
  private:
-  std::vector<float> storage_;
+  std::vector<float, LargePageAllocator<float>> storage_;  // (core/large_pages.h)
   size_t skew_ = 0, count_ = 0;
 };
 using Planes3 = std::array<Plane, 3>;
@@ -72,9 +73,9 @@ struct SweepConfig {
 
 // One candidate's per-pixel results in linear units.
 struct ScaleMaps {
-  std::vector<vec3> output;
-  std::vector<float> mse;            // estimated squared error, summed over channels
-  std::vector<float> varianceRatio;  // variance of the output / variance of the mean, in [0, 1]
+  LargeVector<vec3> output;
+  LargeVector<float> mse;            // estimated squared error, summed over channels
+  LargeVector<float> varianceRatio;  // variance of the output / variance of the mean, in [0, 1]
 };
 
 // sum_c x_c d_c^2: a per-channel squared error or variance in the filtered domain, in linear
