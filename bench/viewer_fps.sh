@@ -18,23 +18,27 @@
 # With --asset --glb: the same for the asset's .glb opened directly (no floor, no set: lit by
 # the default environment), as an artist opens a model.
 #
-# With --trace-speed: the asset scene at 1280x720 with LD, the window's trace speed (kept spp
-# over the method's own seconds at its newest picture shown, the report's trace_spp_per_second)
+# With --trace-speed: the asset scene at 1280x720 with LD (or --method M), the window's trace
+# speed (kept spp over the method's own seconds at its newest picture shown, the report's
+# trace_spp_per_second)
 # against a batch render's (spp / time_seconds, measured the same way), left alone for SECONDS
 # (default 30) and while the user pans the image (a scripted middle-button drag, back and forth,
 # DRAGS times, default 40; rendering goes on under it), each with the window's frame pacing and
 # without it
 # (PENUMBRA_FRAME_PACING=off: any change drawn at up to 60 fps, as before the pacing), in one run.
+# The batch render is of 4 spp with LD and 16 with any other method, whose adaptive rounds
+# would otherwise not have started (its time includes one reconstruction, as the window's).
 # Usage: bench/viewer_fps.sh [SCENE] [--size 512x512] [--seconds 10]
 #        bench/viewer_fps.sh --asset [--glb]
-#        bench/viewer_fps.sh --trace-speed [--seconds 30] [--drags 40]
+#        bench/viewer_fps.sh --trace-speed [--seconds 30] [--drags 40] [--method ld|bp|...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=scenes/balls.json size=512x512 seconds=10 asset=0 glb=0 speed=0 drags=40
+scene=scenes/balls.json size=512x512 seconds=10 asset=0 glb=0 speed=0 drags=40 method=ld
 while [ $# -gt 0 ]; do
   case $1 in
     --trace-speed) speed=1; seconds=30; shift ;;
     --drags) drags=$2; shift 2 ;;
+    --method) method=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --asset) asset=1; shift ;;
@@ -47,8 +51,10 @@ if [ $speed -eq 1 ]; then
   trap 'rm -rf "$work"' EXIT
   scene=build/bench/asset_scene/scene.json size=1280x720
   [ -f "$scene" ] || scripts/make_asset_scene.sh >/dev/null
-  build/penumbra render "$scene" --method ld --spp 4 --size $size -q -o "$work/batch.exr" \
-    --stats "$work/batch.json" 2>/dev/null
+  batch_spp=16
+  [ "$method" = ld ] && batch_spp=4
+  build/penumbra render "$scene" --method "$method" --spp $batch_spp --size $size -q \
+    -o "$work/batch.exr" --stats "$work/batch.json" 2>/dev/null
   printf 'wait %s\nquit\n' "$seconds" >"$work/idle.txt"
   for i in $(seq "$drags"); do
     printf 'drag middle 700 400 900 450\ndrag middle 900 450 700 400\n'
@@ -57,17 +63,17 @@ if [ $speed -eq 1 ]; then
   for pacing in off on; do
     for phase in idle drag; do
       PENUMBRA_FRAME_PACING=$pacing xvfb-run -a -s "-screen 0 1640x800x24" build/penumbra view \
-        "$scene" --size $size --method ld --script "$work/$phase.txt" \
+        "$scene" --size $size --method "$method" --script "$work/$phase.txt" \
         --report "$work/${phase}_$pacing.json" >/dev/null 2>&1
     done
   done
-  python3 - "$work" "$scene" "$size" <<'PY'
+  python3 - "$work" "$scene" "$size" "$method" <<'PY'
 import json, os, sys
 w = sys.argv[1]
 b = json.load(open(os.path.join(w, "batch.json")))
 batch = b["spp"] / max(b["time_seconds"], 1e-9)
-print("%s at %s, LD: batch render %.3f spp/s (%d spp in %.1f s)" %
-      (sys.argv[2], sys.argv[3], batch, b["spp"], b["time_seconds"]))
+print("%s at %s, %s: batch render %.3f spp/s (%d spp in %.1f s)" %
+      (sys.argv[2], sys.argv[3], sys.argv[4], batch, b["spp"], b["time_seconds"]))
 print("window            pacing   trace spp/s   x batch   frames   mean frame   seconds   (goal)")
 for phase, goal in (("idle", 0.85), ("drag", 0.6)):
     for pacing in ("off", "on"):

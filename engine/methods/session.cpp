@@ -6,6 +6,7 @@
 #include <tbb/task_scheduler_observer.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -14,7 +15,23 @@ namespace penumbra {
 namespace {
 // Seconds between two published snapshots of a running method, at least.
 constexpr double kMinPublishInterval = 0.2;
+// A snapshot's reconstruction may cost as much as the tracing between two of them for the
+// first kSettleSeconds after a (re)start, when each picture shows much more than the last
+// (1, 2, 4 samples per pixel). From then on the tracing between two snapshots grows with the
+// time since the start, to kMaxTraceRatio times the last snapshot's cost, so that snapshots
+// take at most 1 / (1 + kMaxTraceRatio) of a long run (a 1280x720 reconstruction costs about
+// as much as a round of tracing: publishing after every round halved the window's trace speed).
+// A small image, whose snapshots cost a few hundredths of a second, still publishes every
+// kMinPublishInterval.
+constexpr double kSettleSeconds = 2.0;
+constexpr double kMaxTraceRatio = 6.0;
+
 }  // namespace
+
+double publishInterval(double elapsed, double lastCost) {
+  const double ratio = std::clamp(elapsed / kSettleSeconds, 1.0, kMaxTraceRatio);
+  return std::max(kMinPublishInterval, lastCost * ratio);
+}
 
 namespace {
 
@@ -173,7 +190,7 @@ struct RenderSession::Worker {
   std::unique_ptr<ProgressiveMethod> method;
   uint64_t methodGeneration = 0;
   bool publishedOnce = false;
-  std::chrono::steady_clock::time_point lastPublish{};
+  std::chrono::steady_clock::time_point methodStart{}, lastPublish{};
   double lastSnapshotCost = 0;
 
   // Frees the method (then the factory that owns what it refers to). Only the worker thread
@@ -245,6 +262,7 @@ RenderSession::RoundResult RenderSession::runRound(Worker& w, const RoundRequest
       w.methodGeneration = request.generation;
       w.publishedOnce = false;
       w.lastSnapshotCost = 0;
+      w.methodStart = std::chrono::steady_clock::now();
     }
     ProgressiveMethod& method = *w.method;
     method.setInspectedPixel(request.inspectX, request.inspectY);
@@ -255,11 +273,12 @@ RenderSession::RoundResult RenderSession::runRound(Worker& w, const RoundRequest
       if (cancelRound_) return;
       // A reconstruction costs far more than a short round: publish (and reconstruct) the
       // first round, the last, a stepped one, and otherwise at most a few times a second and
-      // never more often than the last snapshot's own cost allows (it stays below tracing).
-      const double sincePublish =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - w.lastPublish).count();
+      // never more often than the last snapshot's own cost allows (publishInterval).
+      const auto now = std::chrono::steady_clock::now();
+      const double sincePublish = std::chrono::duration<double>(now - w.lastPublish).count();
+      const double elapsed = std::chrono::duration<double>(now - w.methodStart).count();
       const bool due = !w.publishedOnce || stepping || method.done() ||
-                       sincePublish >= std::max(kMinPublishInterval, w.lastSnapshotCost);
+                       sincePublish >= publishInterval(elapsed, w.lastSnapshotCost);
       if (!due) return;
       const auto snapshotStart = std::chrono::steady_clock::now();
       r.snapshot = method.snapshot(true, &cancelRound_);
