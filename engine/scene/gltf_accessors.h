@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace penumbra::gltf {
 
@@ -23,7 +24,9 @@ std::string number(double v);
 std::string indexed(const char* array, size_t i);
 
 // An accessor's elements as doubles (normalised integers scaled to [0, 1] or [-1, 1]), after
-// checking every byte it reads lies inside its buffer view and buffer.
+// checking every byte it reads lies inside its buffer view and buffer. A sparse accessor's
+// elements are its base's (zeros without a buffer view) with the listed ones replaced; its
+// indices must be strictly increasing and below the count, as the specification says.
 class AccessorReader {
  public:
   AccessorReader(const std::string& path, const tinygltf::Model& model, int index,
@@ -40,11 +43,23 @@ class AccessorReader {
 
  private:
   double scaled(double v, double max) const { return normalized_ ? v / max : v; }
+  // The component at p, of the accessor's component type.
+  double decode(const unsigned char* p) const;
+  // Checks that `count` elements of `element` bytes, `stride` apart, from byteOffset of buffer
+  // view `viewIndex` lie inside it and its buffer; their first byte. `what` names them.
+  const unsigned char* viewData(const tinygltf::Model& model, int viewIndex, size_t byteOffset,
+                                size_t count, size_t element, size_t* stride,
+                                const std::string& what) const;
+  void readSparse(const tinygltf::Model& model, const tinygltf::Accessor& a);
 
   const std::string& path_;
   std::string where_;
   const unsigned char* data_ = nullptr;
   size_t count_ = 0, stride_ = 0, element_ = 0;
+  // A sparse accessor's replaced elements: their indices, ascending, and their values (tightly
+  // packed elements, the i-th for sparseIndices_[i]).
+  std::vector<size_t> sparseIndices_;
+  const unsigned char* sparseValues_ = nullptr;
   int components_ = 0, componentType_ = 0;
   bool normalized_ = false;
 };

@@ -1,8 +1,8 @@
 // glTF 2.0 scenes: small files written here (buffers as data: URIs, a .glb container, a
 // relative .bin) through loadGltf and loadScene: geometry placed by the node hierarchy,
-// quantised attributes and vertex colours, the material mapping, cameras, animation, warnings for
-// what is not rendered, and clear errors for damaged files and for URIs that name a network
-// location. The textures are gltf_textures_test.cpp's.
+// quantised attributes, sparse accessors and vertex colours, the material mapping, cameras,
+// animation, warnings for what is not rendered, and clear errors for damaged files and for URIs
+// that name a network location. The textures are gltf_textures_test.cpp's.
 #include "scene/gltf_io.h"
 
 #include "core/image_io.h"
@@ -246,6 +246,67 @@ TEST(Gltf, QuantisedAttributesAndVertexColoursAreRead) {
   j["accessors"][3]["count"] = 4;
   expectSceneError([&] { loadGltf(writeGltf("colour.gltf", j)); },
                    {"colour.gltf", "COLOR_0", "VEC3 or VEC4"});
+}
+
+// Sparse accessors: the listed elements replace the base's, or zeros where the accessor has no
+// buffer view; damaged ones are errors naming the accessor.
+TEST(Gltf, SparseAccessorsReplaceTheListedElements) {
+  std::string buffer = quadBuffer();          // 140 bytes
+  append<uint8_t>(buffer, {2, 0, 0, 0});      // 140: one index, padded
+  append<float>(buffer, {0.25f, 0.75f});      // 144: its uv
+  append<uint16_t>(buffer, {1, 3});           // 152: two indices
+  append<float>(buffer, {0.5f, 0.5f, 1, 0});  // 156: their uvs
+  append<uint16_t>(buffer, {3, 1});           // 172: two indices out of order
+  ASSERT_EQ(buffer.size(), 176u);
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  for (auto [offset, length] : {std::pair{140, 1}, {144, 8}, {152, 4}, {156, 16}, {172, 4}})
+    j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}});
+  j["accessors"][2]["sparse"] = {{"count", 1},
+                                 {"indices", {{"bufferView", 4}, {"componentType", 5121}}},
+                                 {"values", {{"bufferView", 5}}}};
+  const GltfData g = loadGltf(writeGltf("sparse.gltf", j));
+  ASSERT_GE(g.mesh.uvs.size(), 4u);
+  // glTF's v runs down: ours is 1 - v.
+  EXPECT_NEAR(g.mesh.uvs[1].x, 1.0f, 1e-6f);  // the base's
+  EXPECT_NEAR(g.mesh.uvs[2].x, 0.25f, 1e-6f);
+  EXPECT_NEAR(g.mesh.uvs[2].y, 0.25f, 1e-6f);
+  EXPECT_NEAR(g.mesh.uvs[3].y, 1.0f, 1e-6f);  // the base's (0, 0)
+
+  // No buffer view: zeros but for the listed elements.
+  Json zeros = j;
+  zeros["accessors"][2].erase("bufferView");
+  zeros["accessors"][2]["sparse"] = {{"count", 2},
+                                     {"indices", {{"bufferView", 6}, {"componentType", 5123}}},
+                                     {"values", {{"bufferView", 7}}}};
+  const GltfData z = loadGltf(writeGltf("zeros.gltf", zeros));
+  ASSERT_GE(z.mesh.uvs.size(), 4u);
+  EXPECT_NEAR(z.mesh.uvs[0].x, 0.0f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[0].y, 1.0f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[1].x, 0.5f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[1].y, 0.5f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[2].x, 0.0f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[3].x, 1.0f, 1e-6f);
+  EXPECT_NEAR(z.mesh.uvs[3].y, 1.0f, 1e-6f);
+
+  // Damaged: an index past the count, indices out of order, too many, values past their view,
+  // a signed index type.
+  auto damaged = [&](const std::string& name, const std::function<void(Json&)>& edit,
+                     std::initializer_list<std::string> parts) {
+    Json d = zeros;
+    edit(d);
+    expectSceneError([&] { loadGltf(writeGltf(name, d)); }, parts);
+  };
+  damaged("past.gltf", [](Json& d) { d["accessors"][2]["count"] = 3; },
+          {"past.gltf", "accessors[2]", "sparse index 3"});
+  damaged("order.gltf", [](Json& d) { d["accessors"][2]["sparse"]["indices"]["bufferView"] = 8; },
+          {"order.gltf", "accessors[2]", "strictly increasing"});
+  damaged("many.gltf", [](Json& d) { d["accessors"][2]["sparse"]["count"] = 5; },
+          {"many.gltf", "accessors[2]", "sparse count 5"});
+  damaged("values.gltf", [](Json& d) { d["bufferViews"][7]["byteLength"] = 12; },
+          {"values.gltf", "accessors[2]", "sparse values run past"});
+  damaged("type.gltf",
+          [](Json& d) { d["accessors"][2]["sparse"]["indices"]["componentType"] = 5122; },
+          {"type.gltf", "accessors[2]", "unsigned"});
 }
 
 TEST(Gltf, PunctualLightsArePlacedByTheirNodes) {
