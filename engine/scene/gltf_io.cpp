@@ -218,16 +218,17 @@ class Converter {
       const std::string at = indexed("samplers", size_t(gltfTexture.sampler));
       t.wrap.u = wrapMode(path_, sampler.wrapS, at + ".wrapS");
       t.wrap.v = wrapMode(path_, sampler.wrapT, at + ".wrapT");
+      t.wrap.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
     }
     textureTransform(path_, extensions, where, t, texCoord);
     if (texCoord != 0)
       warn(where + ": uv set " + std::to_string(texCoord) +
            " is not read; the first uv set is used");
-    const TextureKey key{
-        source,
-        int(texels),
-        {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)), t.uvLinear[0][0],
-         t.uvLinear[0][1], t.uvLinear[1][0], t.uvLinear[1][1], t.uvOffset.x, t.uvOffset.y}};
+    const TextureKey key{source,
+                         int(texels),
+                         {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)),
+                          float(t.wrap.nearest), t.uvLinear[0][0], t.uvLinear[0][1],
+                          t.uvLinear[1][0], t.uvLinear[1][1], t.uvOffset.x, t.uvOffset.y}};
     const auto known = textureIds_.find(key);
     if (known != textureIds_.end()) return known->second;
     const auto imageKey = std::make_pair(source, int(texels));
@@ -685,7 +686,7 @@ class Converter {
   bool animating_ = false;                  // motion blur over the shutter
   std::set<std::string> warned_;
   // A texture of ours: the image, its conversion, and its factor, wrap modes and uv transform.
-  using TextureKey = std::tuple<int, int, std::array<float, 11>>;
+  using TextureKey = std::tuple<int, int, std::array<float, 12>>;
   std::map<TextureKey, int> textureIds_;
   std::map<std::pair<int, int>, int> imageIds_;  // (source, texels) -> out_.images; -1: none
   int defaultMaterial_ = -1;

@@ -167,7 +167,8 @@ void wrappedPair(TextureWrap wrap, float x, int n, int& i0, int& i1, float& t) {
   i1 = mirror(b);
 }
 
-// Bilinear at one level under wrap modes that are not both Repeat.
+// Bilinear at one level under wrap modes that are not both Repeat; the nearest texel (the
+// pair's nearer one along each axis) with wrap.nearest.
 template <typename Texel>
 vec3 bilinearWrapped(const TextureImage::Level& level, int channels, glm::vec2 uv,
                      TextureWrapModes wrap, Texel texel) {
@@ -182,6 +183,10 @@ vec3 bilinearWrapped(const TextureImage::Level& level, int channels, glm::vec2 u
   float tx, ty;
   wrappedPair(wrap.u, x, w, x0, x1, tx);
   wrappedPair(wrap.v, y, h, y0, y1, ty);
+  if (wrap.nearest)
+    return texel(level.offset +
+                 (size_t(ty < 0.5f ? y0 : y1) * size_t(w) + size_t(tx < 0.5f ? x0 : x1)) *
+                     size_t(channels));
   const size_t row0 = level.offset + size_t(y0) * size_t(w) * size_t(channels);
   const size_t row1 = level.offset + size_t(y1) * size_t(w) * size_t(channels);
   const size_t c0 = size_t(x0) * size_t(channels), c1 = size_t(x1) * size_t(channels);
@@ -337,7 +342,7 @@ vec3 textureTexel(const TextureImage& image, int level, int x, int y) {
 
 vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv, TextureWrapModes wrap) {
   const TextureImage::Level& l = image.levels[size_t(level)];
-  if (!wrap.repeats())
+  if (!wrap.repeats() || wrap.nearest)
     return withTexelReader(
         image, [&](auto texel) { return bilinearWrapped(l, image.channels, uv, wrap, texel); });
   return withTexelReader(image, [&](auto texel) { return bilinear(l, image.channels, uv, texel); });
@@ -353,9 +358,10 @@ float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy) {
 vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy,
                    TextureWrapModes wrap) {
   const float level = textureMipLevel(image, dx, dy);
+  if (level <= 0.0f) return sampleTextureLevel(image, 0, uv, wrap);  // magnified
+  wrap.nearest = false;
   const int fine = int(level);
-  if (level <= 0.0f || fine + 1 >= int(image.levels.size()))
-    return sampleTextureLevel(image, fine, uv, wrap);
+  if (fine + 1 >= int(image.levels.size())) return sampleTextureLevel(image, fine, uv, wrap);
   const float t = level - float(fine);
   return (1 - t) * sampleTextureLevel(image, fine, uv, wrap) +
          t * sampleTextureLevel(image, fine + 1, uv, wrap);

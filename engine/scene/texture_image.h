@@ -69,16 +69,20 @@ TextureImage readTextureImage(const std::string& path);
 // How a lookup reaches the image outside uv [0, 1), per axis: glTF's sampler wrap modes (and
 // OpenGL's): the image repeats, its edge texels extend, or it repeats mirrored every other time.
 enum class TextureWrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+// A sampler: the wrap modes, and whether a magnified lookup (a footprint finer than a texel of
+// level 0) reads the nearest texel instead of blending four (glTF's magFilter NEAREST: pixel
+// art stays blocky). Minified lookups are trilinear either way.
 struct TextureWrapModes {
   TextureWrap u = TextureWrap::Repeat, v = TextureWrap::Repeat;
+  bool nearest = false;
   bool repeats() const { return u == TextureWrap::Repeat && v == TextureWrap::Repeat; }
   bool operator==(const TextureWrapModes&) const = default;
 };
 
 // The texel (x, y) of `level` in linear values (x and y wrap around).
 vec3 textureTexel(const TextureImage& image, int level, int x, int y);
-// Bilinear at one level, wrapping as `wrap` says (repeating by default); uv (0,0) is the
-// image's bottom-left corner.
+// Bilinear at one level (the nearest texel with wrap.nearest), wrapping as `wrap` says
+// (repeating by default); uv (0,0) is the image's bottom-left corner.
 vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv,
                         TextureWrapModes wrap = {});
 // The mip level whose texels match a footprint of one pixel with uv derivatives dx and dy:
@@ -86,7 +90,8 @@ vec3 sampleTextureLevel(const TextureImage& image, int level, glm::vec2 uv,
 // [0, coarsest]. A zero or non-finite footprint gives 0.
 float textureMipLevel(const TextureImage& image, glm::vec2 dx, glm::vec2 dy);
 // The image over a pixel's footprint: trilinear between the two levels around
-// textureMipLevel (bilinear at level 0 for a zero footprint).
+// textureMipLevel (bilinear at level 0 for a zero footprint or one finer than a texel, or the
+// nearest texel there with wrap.nearest).
 vec3 sampleTexture(const TextureImage& image, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy,
                    TextureWrapModes wrap = {});
 // The image from its second level down: half the size, a quarter of the texels. The image

@@ -154,6 +154,58 @@ TEST(GltfTextures, SamplerWrapModesAndTextureTransformsAreApplied) {
   EXPECT_NEAR(sharp.x, red(2, 0), 1e-5f);
 }
 
+// magFilter NEAREST: a magnified lookup reads one texel (pixel art stays blocky), under every
+// wrap mode; a minified one is trilinear as ever; LINEAR (or none) blends.
+TEST(GltfTextures, NearestMagnificationReadsOneTexel) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  // 4 x 4, the red byte naming the texel as above.
+  std::vector<uint8_t> texels;
+  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
+  auto red = [](int column, int row) {
+    return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8));
+  };
+  j["images"] = {{{"uri", pngUri(4, 4, 3, texels)}}};
+  j["samplers"] = {{{"magFilter", 9728}},
+                   {{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}},
+                   {{"magFilter", 9729}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}},
+                   {{"source", 0}, {"sampler", 1}},
+                   {{"source", 0}, {"sampler", 2}}};
+  for (int m = 0; m < 3; ++m) {
+    j["materials"][m]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", m}};
+    j["materials"][m]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+  }
+  const GltfData g = loadGltf(writeGltf("nearest.gltf", j));
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
+  Scene scene;
+  scene.images = g.images;
+  auto texture = [&](int m) -> const Texture& {
+    return g.textures[size_t(g.materials[size_t(m)].albedoTexture)];
+  };
+  auto at = [&](int m, float s, float t) {
+    return evalTexture(scene, texture(m), vec2(s, 1 - t)).x;
+  };
+  EXPECT_TRUE(texture(0).wrap.nearest);
+  EXPECT_FALSE(texture(2).wrap.nearest);
+  // (0.3, 0.1) is texel (1, 0), 0.2 of a texel left of its centre: one texel, not a blend.
+  EXPECT_NEAR(at(0, 0.3f, 0.1f), red(1, 0), 1e-6f);
+  EXPECT_NEAR(at(0, 0.49f, 0.9f), red(1, 3), 1e-6f);
+  // Repeating past the edge: texel (0, 0) again; near u = 0 from the left, the last column.
+  EXPECT_NEAR(at(0, 1.1f, 0.1f), red(0, 0), 1e-6f);
+  EXPECT_NEAR(at(0, -0.05f, 0.1f), red(3, 0), 1e-6f);
+  // Clamped along s, mirrored along t (t = 1.1 reads row 3, the mirror's first).
+  EXPECT_NEAR(at(1, 1.7f, 0.1f), red(3, 0), 1e-6f);
+  EXPECT_NEAR(at(1, 0.1f, 1.1f), red(0, 3), 1e-6f);
+  // LINEAR blends the two columns' red.
+  EXPECT_NEAR(at(2, 0.25f, 0.125f), 0.5f * (red(0, 0) + red(1, 0)), 1e-5f);
+  // Minified (a footprint of two texels): level 1, as the linear sampler reads it.
+  const UvFootprint wide{vec2(0.5f, 0), vec2(0)};
+  const vec3 minifiedNearest = evalTexture(scene, texture(0), vec2(0.3f, 0.7f), wide);
+  const vec3 minifiedLinear = evalTexture(scene, texture(2), vec2(0.3f, 0.7f), wide);
+  EXPECT_NEAR(minifiedNearest.x, minifiedLinear.x, 1e-6f);
+}
+
 TEST(GltfTextures, BadSamplersAndTransformsNameTheElement) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
