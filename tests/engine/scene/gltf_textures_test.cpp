@@ -25,6 +25,15 @@ using namespace gltf_test;
 using glm::vec2;
 using test::expectSceneError;
 
+// A 4 x 4 RGB image whose red byte names its texel: 16 (row * 4 + column) + 8, top row first,
+// as a data: URI; and that red in linear units.
+std::string labelledImageUri() {
+  std::vector<uint8_t> texels;
+  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
+  return pngUri(4, 4, 3, texels);
+}
+float red(int column, int row) { return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8)); }
+
 TEST(GltfTextures, BaseColourTextureIsSrgbBytesWithTheFactorAtLookup) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
@@ -99,13 +108,7 @@ TEST(GltfTextures, NormalMapsCutoutsAndEmissionTexturesAreRead) {
 TEST(GltfTextures, SamplerWrapModesAndTextureTransformsAreApplied) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
-  // A 4 x 4 RGB image whose red byte names its texel: 16 (row * 4 + column) + 8, top row first.
-  std::vector<uint8_t> texels;
-  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
-  auto red = [](int column, int row) {
-    return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8));
-  };
-  j["images"] = {{{"uri", pngUri(4, 4, 3, texels)}}};
+  j["images"] = {{{"uri", labelledImageUri()}}};
   j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}}};
   j["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}}};
   j["extensionsUsed"].push_back("KHR_texture_transform");
@@ -159,13 +162,7 @@ TEST(GltfTextures, SamplerWrapModesAndTextureTransformsAreApplied) {
 TEST(GltfTextures, NearestMagnificationReadsOneTexel) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
-  // 4 x 4, the red byte naming the texel as above.
-  std::vector<uint8_t> texels;
-  for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {uint8_t(16 * i + 8), 0, 0});
-  auto red = [](int column, int row) {
-    return srgb8ToLinear(uint8_t(16 * (row * 4 + column) + 8));
-  };
-  j["images"] = {{{"uri", pngUri(4, 4, 3, texels)}}};
+  j["images"] = {{{"uri", labelledImageUri()}}};
   j["samplers"] = {{{"magFilter", 9728}},
                    {{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}},
                    {{"magFilter", 9729}}};
