@@ -8,7 +8,7 @@
 #include <string>
 
 int main(int argc, char** argv) {
-  penumbra::configureAllocation();  // first: glibc's mmap threshold
+  penumbra::configureAllocation();  // first: glibc's mmap and trim thresholds
   CLI::App app{"Penumbra: progressive Monte Carlo preview renderer with adaptive sampling"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");

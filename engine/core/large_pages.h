@@ -75,4 +75,8 @@ struct LargePageAllocator {
 template <typename T>
 using LargeVector = std::vector<T, LargePageAllocator<T>>;
 
+// Gives the memory freed inside malloc's heaps back to the system (malloc_trim): called once a
+// replaced method is freed, so that its pages do not stay resident beside its successor's.
+void returnFreedMemory();
+
 }  // namespace penumbra

@@ -1,6 +1,5 @@
 #include "methods/film.h"
 
-#include <malloc.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -67,23 +66,6 @@ vec3 FilmPixel::halfVarianceOfMean() const {
   const vec3 d = meanA() - meanB();
   return d * d * (float(countA) * float(countB) / (float(count) * float(count)));
 }
-
-namespace {
-
-// malloc's own rule moves its mmap threshold up to the size of the largest block freed (up to
-// 32 MiB), so that per-pixel vectors made and freed every round (the pictures, the error
-// maps) come from its heap, whose pages are already mapped. The large arrays now bypass
-// malloc (core/large_pages.h), so nothing freed moves the threshold any more, and every
-// per-pixel vector of a round was mapped afresh: about 50 ms more per picture and per round at
-// 1280x720 on this VM, in page faults. Fixed at what the rule would reach, with the trim
-// threshold at twice it (as the rule sets it), from the start.
-const bool kMallocThresholds = [] {
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
-  return true;
-}();
-
-}  // namespace
 
 Film::Film(int width, int height)
     : width_(width), height_(height), pixels_(size_t(width) * size_t(height)) {}

@@ -1,5 +1,7 @@
 #include "methods/session.h"
 
+#include "core/large_pages.h"
+
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <tbb/task_arena.h>
@@ -198,8 +200,10 @@ struct RenderSession::Worker {
   // method goes at once, before its successor is made, so rapid restarts (a camera drag)
   // never hold two methods' per-pixel state.
   void drop() {
+    if (!method && !activeFactory) return;
     method.reset();
     activeFactory = nullptr;
+    returnFreedMemory();
   }
 };
 
