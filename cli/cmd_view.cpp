@@ -165,9 +165,16 @@ void writeReport(const std::string& path, const ViewerApp& app, const std::strin
   nlohmann::json rss = nlohmann::json::array();
   for (const auto& [t, kib] : window.rss) rss.push_back({t, kib});
   j["rss_kib"] = rss;  // [seconds after opening, VmRSS KiB], twice a second
-  nlohmann::json marks = nlohmann::json::object();
-  for (const auto& [name, t] : window.marks) marks[name] = t;
+  nlohmann::json marks = nlohmann::json::object(), peaks = nlohmann::json::object();
+  for (const auto& mark : window.marks) {
+    marks[mark.name] = mark.seconds;
+    peaks[mark.name] = mark.peakKiB;
+  }
   j["marks"] = marks;  // the script's marks, seconds after opening
+  // The peak resident memory (VmHWM, KiB) up to each mark and when the window closed: exact,
+  // where rss_kib's samples can fall either side of a short peak.
+  j["peak_rss_kib_at_marks"] = peaks;
+  j["peak_rss_kib"] = window.peakKiB;
   writeJson(path, j);
 }
 

@@ -85,7 +85,8 @@ struct Window final : ScriptHost {
   }
   void mark(const std::string& name) override {
     if (stats)
-      stats->marks.push_back({name, std::chrono::duration<double>(Clock::now() - opened).count()});
+      stats->marks.push_back(
+          {name, std::chrono::duration<double>(Clock::now() - opened).count(), peakResidentKiB()});
   }
   void quit() override { glfwSetWindowShouldClose(window, GLFW_TRUE); }
   bool roundShown() override { return app->roundShown(); }
@@ -230,17 +231,25 @@ double framePacing(bool rendering, bool interacting, double lastFrameSeconds) {
   return interacting ? std::clamp(spaced, 1.0 / 30, 0.2) : std::max(spaced, 0.25);
 }
 
-long long residentKiB() {
+namespace {
+
+long long statusKiB(const std::string& field) {
   std::ifstream in("/proc/self/status");
   for (std::string line; std::getline(in, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::atoll(line.c_str() + 6);
+    if (line.rfind(field, 0) == 0) return std::atoll(line.c_str() + field.size());
   return -1;
 }
 
+}  // namespace
+
+long long residentKiB() { return statusKiB("VmRSS:"); }
+
+long long peakResidentKiB() { return statusKiB("VmHWM:"); }
+
 void runWindow(ViewOptions options, const WindowRequest& request) {
-  // Freed per-pixel planes leave the resident set: cli/main.cpp fixes glibc's mmap threshold
-  // for every command (the asset scene's soak, bench/soak.sh --asset, grew 13 % after warm-up
-  // without it).
+  // Freed per-pixel planes leave the resident set: cli/allocation.cpp fixes glibc's mmap and trim
+  // thresholds for every command (the asset scene's soak, bench/soak.sh --asset, grew 13 % after
+  // warm-up without it).
   std::optional<InputScript> script;
   if (!request.script.empty()) script = InputScript::load(request.script);
   options.background = true;  // the UI thread keeps its frame rate
@@ -295,6 +304,7 @@ void runWindow(ViewOptions options, const WindowRequest& request) {
     // Installed after ours, ImGui's callbacks chain to them.
     imguiPlatform = ImGui_ImplGlfw_InitForOpenGL(window, true);
     frameLoop(host, script, request, opened, windowStats);
+    windowStats.peakKiB = peakResidentKiB();
   } catch (const std::exception& e) {
     failure = e.what();
     status = 1;

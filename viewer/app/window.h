@@ -20,8 +20,15 @@ struct WindowStats {
   double longestBusy = 0, longestBusyAt = 0;
   // Resident memory (VmRSS, KiB) sampled twice a second: (seconds after opening, KiB).
   std::vector<std::pair<double, long long>> rss;
-  // The script's marks: (name, seconds after opening).
-  std::vector<std::pair<std::string, double>> marks;
+  // The script's marks: when each ran (seconds after opening) and the peak resident memory up
+  // to then (VmHWM, KiB), exact where the samples above can miss a peak between two of them.
+  struct Mark {
+    std::string name;
+    double seconds = 0;
+    long long peakKiB = -1;
+  };
+  std::vector<Mark> marks;
+  long long peakKiB = -1;  // the peak resident memory when the window closed (VmHWM)
 };
 
 // The shortest time between two frames (seconds). With the renderer at work, a frame costs it
@@ -33,6 +40,8 @@ double framePacing(bool rendering, bool interacting, double lastFrameSeconds);
 
 // The process's resident memory in KiB (VmRSS from /proc/self/status), -1 where unknown.
 long long residentKiB();
+// The process's peak resident memory so far in KiB (VmHWM), -1 where unknown.
+long long peakResidentKiB();
 
 struct WindowRequest {
   int width = 0, height = 0;  // 0: the image at zoom 1 right of the panel, room for a legend

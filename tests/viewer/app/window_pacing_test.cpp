@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace penumbra {
 namespace {
 
@@ -26,6 +29,20 @@ TEST(WindowPacing, ReadsTheResidentMemory) {
   const long long kib = residentKiB();
   EXPECT_GT(kib, 1000) << "a test process holds more than a megabyte";
   EXPECT_LT(kib, 64LL << 20);
+}
+
+TEST(WindowPacing, ThePeakResidentMemoryFollowsAnAllocation) {
+  const long long before = peakResidentKiB();
+  EXPECT_GE(before, residentKiB() - 1024) << "the peak is at least what is resident now";
+  // A block that takes the resident memory 64 MB past the earlier peak, touched (VmHWM counts
+  // touched pages): the peak must rise by about 64 MB.
+  const long long gapKiB = std::max(0LL, before - residentKiB());
+  const size_t bytes = size_t(gapKiB + (64 << 10)) << 10;
+  std::vector<char> block(bytes, 1);
+  const long long after = peakResidentKiB();
+  EXPECT_GE(after, residentKiB());
+  EXPECT_GE(after - before, 32 << 10) << before << " -> " << after;
+  EXPECT_EQ(block[bytes / 2], 1);
 }
 
 }  // namespace
