@@ -149,15 +149,11 @@ if exact:
 grew = (last / first - 1) * 100 if first else float("inf")
 print("restarts %d, reloads %d (%d asked), frames %d, mean frame %.1f ms" %
       (r["restarts"], r["reloads"], reloads, r["frames"], r["mean_frame_ms"]))
-if exact:
-    print("resident memory: peak in the warm-up (to %.0f s) %.0f MiB, peak over the whole run "
-          "%.0f MiB, end %.0f MiB: growth %+.1f %% (goal <= %g %%); in the samples twice a "
-          "second %+.1f %%" % (warmAt, first / 1024, last / 1024, after[-1] / 1024, grew,
-                              growth, sampledGrowth))
-else:
-    print("resident memory: peak in the warm-up (to %.0f s) %.0f MiB, peak after it %.0f MiB, "
-          "end %.0f MiB: growth %+.1f %% (goal <= %g %%)" %
-          (warmAt, first / 1024, last / 1024, after[-1] / 1024, grew, growth))
+print("resident memory: peak in the warm-up (to %.0f s) %.0f MiB, peak %s %.0f MiB, end %.0f MiB: "
+      "growth %+.1f %% (goal <= %g %%)%s" %
+      (warmAt, first / 1024, "over the whole run" if exact else "after it", last / 1024,
+       after[-1] / 1024, grew, growth,
+       "; in the samples twice a second %+.1f %%" % sampledGrowth if exact else ""))
 startAt = r.get("marks", {}).get("start", 0)
 still = max([kib for t, kib in r["rss_kib"] if kib > 0 and t <= startAt] or [1])
 if exact and peaks.get("start", -1) > 0:
