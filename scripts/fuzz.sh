@@ -23,11 +23,12 @@ for t in "${targets[@]}"; do
 done
 
 scripts/setup.sh --no-build
+source scripts/sanitized_build.sh  # PENUMBRA_UNITY_FLAGS
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 if [ ! -f build-fuzz/CMakeCache.txt ]; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DPENUMBRA_FUZZ=ON -DPENUMBRA_BENCH=OFF >"$log" 2>&1 || { cat "$log"; exit 1; }
+    -DPENUMBRA_FUZZ=ON -DPENUMBRA_BENCH=OFF "${PENUMBRA_UNITY_FLAGS[@]}" >"$log" 2>&1 || { cat "$log"; exit 1; }
 fi
 build_targets=(fuzz_seeds)
 for t in "${targets[@]}"; do build_targets+=("${t}_fuzz"); done

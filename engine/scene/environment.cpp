@@ -1,5 +1,6 @@
 #include "scene/environment.h"
 
+#include "core/constants.h"
 #include "core/image_io.h"
 #include "scene/scene.h"
 
@@ -11,8 +12,6 @@
 namespace penumbra {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
-constexpr double kPiD = 3.14159265358979323846;
 
 // Index of the last entry of cdf[0..n] that is <= u, in [0, n - 1].
 int findInterval(const float* cdf, int n, float u) {

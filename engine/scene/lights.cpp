@@ -1,5 +1,7 @@
 #include "scene/lights.h"
 
+#include "core/constants.h"
+
 #include "scene/textures.h"
 
 #include <glm/geometric.hpp>
@@ -13,8 +15,6 @@ namespace {
 float triangleArea(vec3 p0, vec3 p1, vec3 p2) {
   return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
 }
-
-constexpr float kPi = 3.14159265358979f;
 
 // The mean luminance of a texture over its uv square (1 without a texture): a triangle's
 // choice weight uses it, the radiance itself is the texture's at the sampled point.

@@ -1,5 +1,7 @@
 #include "scene/materials.h"
 
+#include "core/constants.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -8,8 +10,6 @@
 namespace penumbra {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
-constexpr float kInvPi = 0.31830988618f;
 
 // Cosine-weighted hemisphere direction about +z.
 vec3 cosineHemisphere(glm::vec2 u) {

@@ -3,6 +3,8 @@
 // uvs can run all the way from 0 to 1 without wrapping back inside a triangle.
 #include "scene/shapes.h"
 
+#include "core/constants.h"
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/mat3x3.hpp>
@@ -18,9 +20,6 @@
 
 namespace penumbra {
 namespace {
-
-constexpr float kTwoPi = glm::two_pi<float>();
-constexpr float kPi = glm::pi<float>();
 
 // Above this many vertices a shape is almost certainly a typo (and would also
 // overflow 32-bit indices long before memory runs out).

@@ -8,6 +8,7 @@
 #include "methods/factory.h"
 #include "present/overlays.h"
 #include "scene/scene_loader.h"
+#include "tests/test_paths.h"
 #include "viewer/app/headless.h"
 #include "viewer/app/view_panel.h"
 
@@ -124,11 +125,7 @@ const MethodRegistry& withToy() {
 
 // ---- What appears with no other edit --------------------------------------------------------
 
-std::shared_ptr<PreparedScene> cornell(int size) {
-  Scene scene = loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell.json");
-  scene.settings.width = scene.settings.height = size;
-  return prepareScene(std::move(scene));
-}
+std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("cornell", size); }
 
 // The toy's flags, by name, with its help; --method and --preset know it.
 TEST(ToyMethod, ItsFlagsAndPresetAreOnTheCommandLine) {

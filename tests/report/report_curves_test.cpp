@@ -6,6 +6,8 @@
 #include "report/report.h"
 #include "report/report_detail.h"
 
+#include "tests/test_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -22,27 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path testFolder() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       (std::string("curves_") + info->test_suite_name() + "_" + info->name());
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string line; std::getline(in, line);) out.push_back(line);
-  return out;
-}
+using test::lines;
+using test::readFile;
 
 CurvePoint point(int checkpoint, double seconds, double mse, double keptSpp) {
   return {checkpoint, seconds, mse, 2 * mse, mse / 2, keptSpp};
@@ -154,7 +137,7 @@ TEST(ReportCurves, TimeToReachInterpolatesLogLog) {
 
 // ---- report.html ---------------------------------------------------------------------------
 TEST(ReportCurves, HtmlHasTwoLogLogChartsWithOnePolylinePerMethod) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("curves");
   writeReport(dir.string(), curveReport());
   const std::string html = readFile(dir / "report.html");
   // The headline section comes before the results table.
@@ -211,7 +194,7 @@ TEST(ReportCurves, HtmlHasTwoLogLogChartsWithOnePolylinePerMethod) {
 
 // ---- results.json, curves.csv and report.md -----------------------------------------------
 TEST(ReportCurves, JsonAndCsvHoldTheCurves) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("curves");
   const CompareReport r = curveReport();
   writeReport(dir.string(), r);
   const nlohmann::json j = nlohmann::json::parse(readFile(dir / "results.json"));
@@ -264,7 +247,7 @@ TEST(ReportCurves, JsonAndCsvHoldTheCurves) {
 }
 
 TEST(ReportCurves, WithoutCurvesThereIsNoSection) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("curves");
   CompareReport r = curveReport();
   for (MethodResult& m : r.methods)
     for (MethodRun& run : m.runs) run.curve.clear();

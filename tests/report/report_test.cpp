@@ -5,6 +5,8 @@
 
 #include "core/image_io.h"
 
+#include "tests/test_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -24,28 +26,8 @@ namespace fs = std::filesystem;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// A fresh, empty folder per test.
-fs::path testFolder() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       (std::string("report_") + info->test_suite_name() + "_" + info->name());
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string line; std::getline(in, line);) out.push_back(line);
-  return out;
-}
+using test::lines;
+using test::readFile;
 
 std::vector<std::string> splitCsv(const std::string& line) {
   std::vector<std::string> out;
@@ -266,7 +248,7 @@ TEST(ReportChooseCrops, SizeMismatchThrows) {
 
 // ---- writeReport ---------------------------------------------------------------------------
 TEST(ReportWrite, WritesAllFiles) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   writeReport(dir.string(), smallReport());
   for (const char* name :
        {"results.json", "results.csv", "report.md", "report.html", "images/reference.png",
@@ -290,7 +272,7 @@ TEST(ReportWrite, WritesAllFiles) {
 }
 
 TEST(ReportWrite, CsvHasOneRowPerRun) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   writeReport(dir.string(), smallReport());
   const std::vector<std::string> rows = lines(readFile(dir / "results.csv"));
   ASSERT_EQ(rows.size(), 5u);
@@ -327,7 +309,7 @@ TEST(ReportWrite, CsvHasOneRowPerRun) {
 }
 
 TEST(ReportWrite, JsonHasMeansAndWinners) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   writeReport(dir.string(), smallReport());
   const nlohmann::json j = nlohmann::json::parse(readFile(dir / "results.json"));
   EXPECT_EQ(j["scene"], "scenes/tiny.json");
@@ -357,7 +339,7 @@ TEST(ReportWrite, JsonHasMeansAndWinners) {
 }
 
 TEST(ReportWrite, HtmlIsSelfContainedAndEscaped) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   CompareReport r = smallReport();
   r.methods[1].label = "<b>&";
   r.methods[1].description = "a \"quoted\" <i>description</i>";
@@ -384,7 +366,7 @@ TEST(ReportWrite, HtmlIsSelfContainedAndEscaped) {
 }
 
 TEST(ReportWrite, MarkdownHasTableAndLinks) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   writeReport(dir.string(), smallReport());
   const std::string md = readFile(dir / "report.md");
   EXPECT_NE(md.find("# tiny.json"), std::string::npos);
@@ -396,7 +378,7 @@ TEST(ReportWrite, MarkdownHasTableAndLinks) {
 }
 
 TEST(ReportWrite, SizeMismatchThrowsAndWritesNothing) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   CompareReport r = smallReport();
   r.methods[1].image = gradient(16, 15);
   EXPECT_THROW(writeReport(dir.string(), r), std::invalid_argument);
@@ -412,7 +394,7 @@ TEST(ReportWrite, SizeMismatchThrowsAndWritesNothing) {
 }
 
 TEST(ReportWrite, UnwritableFolderThrowsImageIoError) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   fs::create_directories(dir);
   std::ofstream(dir / "file") << "not a folder";
   try {
@@ -425,7 +407,7 @@ TEST(ReportWrite, UnwritableFolderThrowsImageIoError) {
 
 // One method without runs or maps, an image of odd size, NaN pixels: still a whole report.
 TEST(ReportWrite, SparseReportStillWrites) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   CompareReport r;
   r.reference = gradient(9, 5);
   MethodResult m;
@@ -444,7 +426,7 @@ TEST(ReportWrite, SparseReportStillWrites) {
 
 // Given crops are used as they are.
 TEST(ReportWrite, UsesGivenCrops) {
-  const fs::path dir = testFolder();
+  const fs::path dir = test::freshFolder("report");
   CompareReport r = smallReport();
   r.crops = {{"left", 0, 4, 6, 6}, {"right", 10, 4, 6, 6}};
   writeReport(dir.string(), r);

@@ -22,10 +22,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsBetween(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
 // Block size of the first preview after a restart: about 64 blocks across.
 int previewBlock(int width) { return std::clamp(width / 64, 2, 16); }
 

@@ -19,6 +19,12 @@
 
 namespace penumbra {
 
+// Seconds from a to b on the steady clock the window times itself with.
+inline double secondsBetween(std::chrono::steady_clock::time_point a,
+                             std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
 class DisplayRenderer;
 class ImGuiRenderer;
 

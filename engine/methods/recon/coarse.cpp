@@ -17,8 +17,6 @@
 namespace penumbra::recon {
 namespace {
 
-constexpr float kMaxVariance = 1e30f;
-
 // The half-resolution input, held whole (a quarter of the image's pixels).
 struct HalfImage {
   int width = 0, height = 0;

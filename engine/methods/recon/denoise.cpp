@@ -22,8 +22,6 @@ using detail::Plane;
 using detail::Planes3;
 using detail::SweepInput;
 
-// Larger variances of the mean are clamped to this, so that sums of them stay finite.
-constexpr float kMaxVariance = 1e30f;
 // Bounds that keep the bank's cost and its uint8_t scale index sane.
 constexpr int kMaxRadius = 64;
 constexpr size_t kMaxScales = 32;

@@ -38,6 +38,9 @@
 
 namespace penumbra::recon {
 
+// Larger variances of a mean are clamped to this, so that sums of them stay finite.
+inline constexpr float kMaxVariance = 1e30f;
+
 struct DenoiseInput {
   int width = 0, height = 0;
   // Per pixel, rows top first, linear RGB:

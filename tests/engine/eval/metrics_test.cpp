@@ -1,6 +1,7 @@
 // Tests for engine/metrics: metrics on tiny images worked out by hand, size checks, handling
 // of NaN/inf pixels, the error image, and the colour map's monotone lightness.
 #include "eval/metrics.h"
+#include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +14,8 @@
 namespace penumbra {
 namespace {
 
-const float kNaN = std::numeric_limits<float>::quiet_NaN();
-const float kInf = std::numeric_limits<float>::infinity();
+using test::kInf;
+using test::kNaN;
 
 Image imageOf(std::initializer_list<vec3> pixels) {
   Image image(int(pixels.size()), 1);

@@ -109,17 +109,8 @@ TEST(AllocationConfig, Validates) {
   EXPECT_NE(validate(spec).find("--initial-spp"), std::string::npos);
 }
 
-// The values of the snapshot's map `id` (the test fails when it has none).
-const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
-  static const std::vector<float> none;
-  const SnapshotMap* m = s.map(id);
-  EXPECT_NE(m, nullptr) << "no " << id.name() << " map";
-  return m ? m->values : none;
-}
-
-std::shared_ptr<Snapshot> runToEnd(ProgressiveMethod& method) {
-  return test::runToEnd(method, 100);
-}
+using test::mapOf;
+using test::runToEnd;
 
 using Method = const MethodDescriptor*;
 

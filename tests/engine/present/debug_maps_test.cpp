@@ -23,8 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const float kNaN = std::numeric_limits<float>::quiet_NaN();
-const float kInf = std::numeric_limits<float>::infinity();
+using test::kInf;
+using test::kNaN;
 constexpr int kStripHeight = 34;  // legend strip height at scale 1 (maps under 640 wide)
 
 vec3 viridisLinear(float t) {

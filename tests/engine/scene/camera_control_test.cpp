@@ -1,6 +1,7 @@
 // Camera moves of the viewer: orbit keeps the distance and never flips, pan and fly move eye
 // and look-at together, dolly scales the distance.
 #include "scene/camera_control.h"
+#include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -18,17 +19,14 @@ Camera start() {
   return c;
 }
 
-void expectNear(vec3 a, vec3 b, float tolerance = 1e-4f) {
-  EXPECT_NEAR(a.x, b.x, tolerance);
-  EXPECT_NEAR(a.y, b.y, tolerance);
-  EXPECT_NEAR(a.z, b.z, tolerance);
-}
+constexpr float kCameraTolerance = 1e-4f;
+using test::expectNear;
 
 TEST(CameraControl, OrbitKeepsDistanceAndLookAt) {
   const Camera c = orbitCamera(start(), float(M_PI) / 2, 0.0f);
-  expectNear(c.lookAt, vec3(0, 1, 0));
+  expectNear(c.lookAt, vec3(0, 1, 0), kCameraTolerance);
   EXPECT_NEAR(glm::length(c.eye - c.lookAt), 5.0f, 1e-4f);
-  expectNear(c.eye, vec3(5, 1, 0));  // a quarter turn about +y takes +z to +x
+  expectNear(c.eye, vec3(5, 1, 0), kCameraTolerance);  // a quarter turn about +y takes +z to +x
   const Camera up = orbitCamera(start(), 0.0f, 0.3f);
   EXPECT_GT(up.eye.y, 1.0f);
   EXPECT_NEAR(glm::length(up.eye - up.lookAt), 5.0f, 1e-4f);
@@ -47,7 +45,7 @@ TEST(CameraControl, OrbitStopsShortOfThePoles) {
 TEST(CameraControl, PanMovesBothPointsInTheViewPlane) {
   const Camera c = panCamera(start(), 0.1f, 0.0f);
   const vec3 move = c.eye - start().eye;
-  expectNear(c.lookAt - start().lookAt, move);
+  expectNear(c.lookAt - start().lookAt, move, kCameraTolerance);
   EXPECT_NEAR(move.z, 0.0f, 1e-5f);  // perpendicular to the view direction (-z)
   // A drag to the right moves the camera left by 0.1 view heights at distance 5.
   const float viewHeight = 2.0f * 5.0f * std::tan(20.0f * float(M_PI) / 180.0f);
@@ -59,7 +57,7 @@ TEST(CameraControl, PanMovesBothPointsInTheViewPlane) {
 TEST(CameraControl, DollyScalesTheDistanceAndNeverReachesZero) {
   const Camera closer = dollyCamera(start(), 0.5f);
   EXPECT_NEAR(glm::length(closer.eye - closer.lookAt), 2.5f, 1e-4f);
-  expectNear(closer.lookAt, start().lookAt);
+  expectNear(closer.lookAt, start().lookAt, kCameraTolerance);
   const Camera tiny = dollyCamera(start(), 0.0f);  // ignored
   EXPECT_NEAR(glm::length(tiny.eye - tiny.lookAt), 5.0f, 1e-4f);
   const Camera floor = dollyCamera(start(), 1e-9f);
@@ -68,10 +66,10 @@ TEST(CameraControl, DollyScalesTheDistanceAndNeverReachesZero) {
 
 TEST(CameraControl, FlyMovesAlongTheCameraAxes) {
   const Camera c = flyCamera(start(), 0.0f, 0.0f, 1.0f);  // forward is -z
-  expectNear(c.eye, vec3(0, 1, 4));
-  expectNear(c.lookAt, vec3(0, 1, -1));
+  expectNear(c.eye, vec3(0, 1, 4), kCameraTolerance);
+  expectNear(c.lookAt, vec3(0, 1, -1), kCameraTolerance);
   const Camera r = flyCamera(start(), 2.0f, 0.0f, 0.0f);
-  expectNear(r.eye, vec3(2, 1, 5));
+  expectNear(r.eye, vec3(2, 1, 5), kCameraTolerance);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The environment map: its direction convention, and its importance sampler checked against
 // the map (chi-square over the texels, pdfs that integrate to one and agree with the samples).
 #include "scene/environment.h"
+#include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
 
@@ -18,19 +19,19 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-void expectNear(vec3 a, vec3 b, float tolerance = 1e-5f) {
-  EXPECT_NEAR(a.x, b.x, tolerance);
-  EXPECT_NEAR(a.y, b.y, tolerance);
-  EXPECT_NEAR(a.z, b.z, tolerance);
-}
+constexpr float kDirectionTolerance = 1e-5f;
+using test::expectNear;
 
 TEST(Environment, MapConventionIsBlendersInAYUpWorld) {
-  expectNear(equirectToDirection({0.5f, 0.0f}), {0, 1, 0});    // top row: straight up
-  expectNear(equirectToDirection({0.3f, 1.0f}), {0, -1, 0});   // bottom row: straight down
-  expectNear(equirectToDirection({0.5f, 0.5f}), {1, 0, 0});    // centre: +x
-  expectNear(equirectToDirection({0.75f, 0.5f}), {0, 0, 1});   // towards a default camera
-  expectNear(equirectToDirection({0.25f, 0.5f}), {0, 0, -1});  // Blender's +y
-  expectNear(equirectToDirection({0.0f, 0.5f}), {-1, 0, 0});
+  expectNear(equirectToDirection({0.5f, 0.0f}), {0, 1, 0},
+             kDirectionTolerance);  // top row: straight up
+  expectNear(equirectToDirection({0.3f, 1.0f}), {0, -1, 0},
+             kDirectionTolerance);  // bottom row: straight down
+  expectNear(equirectToDirection({0.5f, 0.5f}), {1, 0, 0}, kDirectionTolerance);  // centre: +x
+  expectNear(equirectToDirection({0.75f, 0.5f}), {0, 0, 1},
+             kDirectionTolerance);  // towards a default camera
+  expectNear(equirectToDirection({0.25f, 0.5f}), {0, 0, -1}, kDirectionTolerance);  // Blender's +y
+  expectNear(equirectToDirection({0.0f, 0.5f}), {-1, 0, 0}, kDirectionTolerance);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> U(0.01f, 0.99f);
   for (int i = 0; i < 100; ++i) {
@@ -156,7 +157,7 @@ TEST(Environment, ConstantMapIsSampledUniformlyOverTheSphere) {
     float pdf = 0;
     ASSERT_TRUE(light.sample({U(rng), U(rng)}, d, pdf));
     EXPECT_NEAR(pdf, 1 / (4 * kPi), 1e-6);
-    expectNear(light.radiance(d), vec3(0.5f, 1.0f, 2.0f));
+    expectNear(light.radiance(d), vec3(0.5f, 1.0f, 2.0f), kDirectionTolerance);
     meanY += d.y;
   }
   EXPECT_NEAR(meanY / kN, 0.0, 4 * std::sqrt(1.0 / 3.0 / kN));
@@ -166,8 +167,8 @@ TEST(Environment, RotationTurnsTheMapAboutUpByTheRightHandRule) {
   const auto map = structuredMap(16, 8);
   const EnvironmentLight still(map, 1.0f, 0.0f), turned(map, 1.0f, 90.0f);
   // Turned by +90 degrees, what was seen along +x is seen along -z.
-  expectNear(turned.radiance({0, 0, -1}), still.radiance({1, 0, 0}));
-  expectNear(turned.radiance({1, 0, 0}), still.radiance({0, 0, 1}));
+  expectNear(turned.radiance({0, 0, -1}), still.radiance({1, 0, 0}), kDirectionTolerance);
+  expectNear(turned.radiance({1, 0, 0}), still.radiance({0, 0, 1}), kDirectionTolerance);
   EXPECT_NEAR(turned.pdf({0, 0.3f, -0.95393920f}), still.pdf({0.95393920f, 0.3f, 0}), 1e-4f);
 }
 

@@ -133,11 +133,7 @@ inline std::string writeGltf(const std::string& name, const Json& j) {
   return writeFile(name, j.dump());
 }
 
-inline void expectNear(glm::vec3 got, glm::vec3 want) {
-  EXPECT_NEAR(got.x, want.x, 1e-5f);
-  EXPECT_NEAR(got.y, want.y, 1e-5f);
-  EXPECT_NEAR(got.z, want.z, 1e-5f);
-}
+using test::expectNear;
 
 // A data: URI of a PNG of w x h texels with n channels.
 inline std::string pngUri(int w, int h, int n, const std::vector<uint8_t>& texels) {

@@ -2,9 +2,11 @@
 // map, a diffuse plane under a map that varies with elevation only, and a small, very bright sun
 // whose low noise at 16 spp shows that it is importance-sampled. Plus what camera rays see:
 // the map, the backdrop, or nothing when transparent.
+#include "core/constants.h"
 #include "methods/render.h"
 #include "scene/lights.h"
 #include "scene/scene_loader.h"
+#include "tests/test_paths.h"
 #include "trace/integrator.h"
 
 #include <gtest/gtest.h>
@@ -18,18 +20,9 @@
 namespace penumbra {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::sceneFrom;
 
-Scene sceneFrom(const std::string& json) { return parseSceneJson(json, "test.json", "."); }
-
-RenderResult renderScene(Scene scene, int spp, SamplerKind sampler) {
-  auto prepared = prepareScene(std::move(scene));
-  RenderOptions options;
-  options.spp = spp;
-  options.sampler = sampler;
-  options.seed = 5;
-  return renderImage(*prepared, options);
-}
+constexpr uint64_t kSeed = 5;
 
 struct Stats {
   double mean, standardError, relativeSpread;  // spread: std of the pixels over their mean
@@ -61,13 +54,13 @@ double lambertianUpRadiance(const EnvironmentLight& light, double albedo) {
     const double z = (i + 0.5) / kN;  // cos theta in (0, 1)
     const double s = std::sqrt(1 - z * z);
     for (int j = 0; j < kN; ++j) {
-      const double phi = 2 * kPi * (j + 0.5) / kN;
+      const double phi = 2 * kPiD * (j + 0.5) / kN;
       sum += luminance(light.radiance(
                  vec3(float(s * std::cos(phi)), float(z), float(s * std::sin(phi))))) *
              z;
     }
   }
-  return albedo / kPi * sum * (2 * kPi / (double(kN) * kN));
+  return albedo / kPiD * sum * (2 * kPiD / (double(kN) * kN));
 }
 
 // A Lambertian plane (albedo 0.5) seen straight down through a narrow field of view, lit only
@@ -88,7 +81,8 @@ TEST(EnvironmentLighting, WhiteFurnaceUnderAConstantMap) {
     "materials": {"ball": {"type": "diffuse", "albedo": 1}},
     "objects": [{"shape": "sphere", "radius": 1, "material": "ball"}]})");
   setEnvironment(scene, Image(8, 4, vec3(1.0f)));
-  const Stats s = pixelStats(renderScene(std::move(scene), 128, SamplerKind::Independent));
+  const Stats s =
+      pixelStats(test::renderScene(std::move(scene), 128, SamplerKind::Independent, kSeed));
   EXPECT_NEAR(s.mean, 1.0, std::max(4 * s.standardError, 2e-3));
   EXPECT_LT(s.standardError, 0.01);
 }
@@ -100,7 +94,7 @@ TEST(EnvironmentLighting, PlaneUnderAnElevationOnlyMapMatchesTheCosineIntegral) 
   constexpr int kW = 8, kH = 1024;
   Image map(kW, kH);
   for (int y = 0; y < kH; ++y) {
-    const double mu = std::cos(kPi * (y + 0.5) / kH);
+    const double mu = std::cos(kPiD * (y + 0.5) / kH);
     for (int x = 0; x < kW; ++x) map.at(x, y) = vec3(mu > 0 ? float(1 + 3 * mu * mu) : 0.2f);
   }
   Scene scene = planeScene();
@@ -108,7 +102,8 @@ TEST(EnvironmentLighting, PlaneUnderAnElevationOnlyMapMatchesTheCosineIntegral) 
   const EnvironmentLight light(scene.environment.map, 1.0f, 0.0f);
   const double expected = lambertianUpRadiance(light, 0.5);
   EXPECT_NEAR(expected, 1.25, 1.25e-3);
-  const Stats s = pixelStats(renderScene(std::move(scene), 64, SamplerKind::LowDiscrepancy));
+  const Stats s =
+      pixelStats(test::renderScene(std::move(scene), 64, SamplerKind::LowDiscrepancy, kSeed));
   EXPECT_NEAR(s.mean, expected, 0.005 * expected);
 }
 
@@ -133,7 +128,7 @@ TEST(EnvironmentLighting, SmallBrightSunIsImportanceSampled) {
   const double skyOnly = 0.5 * 0.05;
   ASSERT_GT(expected, 8 * skyOnly) << "the sun must dominate";
   for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::LowDiscrepancy}) {
-    const Stats s = pixelStats(renderScene(scene, 16, sampler));
+    const Stats s = pixelStats(test::renderScene(scene, 16, sampler, kSeed));
     EXPECT_NEAR(s.mean, expected, std::max(4 * s.standardError, 0.005 * expected));
     EXPECT_LT(s.relativeSpread, 0.3) << "per-pixel noise at 16 spp";
   }
@@ -152,12 +147,13 @@ TEST(EnvironmentLighting, CameraRaysSeeTheMapTheBackdropOrNothing) {
   setEnvironment(scene, map);
   const EnvironmentLight light(scene.environment.map, 1.0f, 0.0f);
   const double seen = luminance(light.radiance({1, 0, 0}));
-  EXPECT_NEAR(pixelStats(renderScene(scene, 4, SamplerKind::LowDiscrepancy)).mean, seen,
-              0.01 * seen);
+  EXPECT_NEAR(pixelStats(test::renderScene(scene, 4, SamplerKind::LowDiscrepancy, kSeed)).mean,
+              seen, 0.01 * seen);
   scene.background = vec3(0.25f);  // with a map, a background is only the backdrop
-  EXPECT_NEAR(pixelStats(renderScene(scene, 4, SamplerKind::LowDiscrepancy)).mean, 0.25, 1e-5);
+  EXPECT_NEAR(pixelStats(test::renderScene(scene, 4, SamplerKind::LowDiscrepancy, kSeed)).mean,
+              0.25, 1e-5);
   scene.transparent = true;
-  EXPECT_EQ(pixelStats(renderScene(scene, 4, SamplerKind::LowDiscrepancy)).mean, 0.0);
+  EXPECT_EQ(pixelStats(test::renderScene(scene, 4, SamplerKind::LowDiscrepancy, kSeed)).mean, 0.0);
 }
 
 TEST(EnvironmentLighting, BackgroundAloneLightsTheSceneByNextEventEstimation) {
@@ -168,7 +164,8 @@ TEST(EnvironmentLighting, BackgroundAloneLightsTheSceneByNextEventEstimation) {
   ASSERT_TRUE(prepared->lights.environment != nullptr);
   EXPECT_FLOAT_EQ(prepared->lights.environmentProbability, 1.0f);
   // L = albedo x background for a plane under a uniform sky.
-  const Stats s = pixelStats(renderScene(std::move(scene), 16, SamplerKind::LowDiscrepancy));
+  const Stats s =
+      pixelStats(test::renderScene(std::move(scene), 16, SamplerKind::LowDiscrepancy, kSeed));
   EXPECT_NEAR(s.mean, 0.5, 0.01);
 }
 

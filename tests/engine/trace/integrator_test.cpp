@@ -4,6 +4,7 @@
 #include "methods/render.h"
 #include "scene/scene_loader.h"
 #include "scene/textures.h"
+#include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,8 @@
 namespace penumbra {
 namespace {
 
-Scene sceneFrom(const std::string& json) { return parseSceneJson(json, "test.json", "."); }
+using test::renderScene;
+using test::sceneFrom;
 
 // Mean and standard error of the per-pixel values (luminance) over the whole image.
 struct ImageMean {
@@ -31,15 +33,6 @@ ImageMean imageMean(const RenderResult& r) {
     var += luminance(r.varianceOfMean.pixels[i]);
   }
   return {sum / n, std::sqrt(var) / n};
-}
-
-RenderResult renderScene(Scene scene, int spp, SamplerKind sampler = SamplerKind::Independent) {
-  auto prepared = prepareScene(std::move(scene));
-  RenderOptions options;
-  options.spp = spp;
-  options.sampler = sampler;
-  options.seed = 11;
-  return renderImage(*prepared, options);
 }
 
 TEST(Integrator, ClosedFurnaceConvergesToEmissionOverOneMinusAlbedo) {

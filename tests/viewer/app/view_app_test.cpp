@@ -13,7 +13,7 @@
 namespace penumbra {
 namespace {
 
-ViewOptions cornell(int size) {
+ViewOptions cornellView(int size) {
   ViewOptions o;
   Scene scene = loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell.json");
   scene.settings.width = scene.settings.height = size;
@@ -54,7 +54,7 @@ TEST(ViewerApp, ThePanelHasTheRunShapesWidgets) {
 // The paper preset's open-ended rounds have no end of their own: only the time limit the panel
 // sets stops them, after the round in which it passed.
 TEST(ViewerApp, ThePaperPresetStopsAtThePanelsTimeLimit) {
-  ViewOptions o = cornell(24);
+  ViewOptions o = cornellView(24);
   o.method = o.methods->find("bp", "paper");
   o.config() = o.methods->configFor("bp", "paper");
   ASSERT_EQ(o.method->algorithm(), "paper");
@@ -78,7 +78,7 @@ TEST(ViewerApp, ThePaperPresetStopsAtThePanelsTimeLimit) {
 
 // Every method stops at the time limit, whatever its own rounds.
 TEST(ViewerApp, EveryMethodStopsAtTheTimeLimit) {
-  ViewOptions base = cornell(16);
+  ViewOptions base = cornellView(16);
   for (const MethodDescriptor* method : base.methods->methods()) {
     ViewOptions o = base;
     o.method = method;
@@ -105,7 +105,7 @@ bool waitForFullPictures(ViewerApp& app, size_t count, double seconds) {
 // Each restart times its first picture (the block preview, at once) and its first full one
 // (the method's first round), which the window's --report averages.
 TEST(ViewerApp, EveryRestartTimesItsFirstFullPicture) {
-  ViewOptions o = cornell(32);
+  ViewOptions o = cornellView(32);
   o.preview = true;
   ViewerApp app(o);
   for (size_t restart = 1; restart <= 3; ++restart) {
@@ -122,7 +122,7 @@ TEST(ViewerApp, EveryRestartTimesItsFirstFullPicture) {
 // 1280x720); an overlay turned on after the run has ended shows once the last round is
 // published again with them.
 TEST(ViewerApp, AnOverlayTurnedOnLaterShowsWhenItsMapsArrive) {
-  ViewOptions o = cornell(16);
+  ViewOptions o = cornellView(16);
   o.shape.spp = 2;
   ViewerApp app(o);
   ASSERT_TRUE(waitUntilFinished(app, 60));
@@ -143,7 +143,7 @@ TEST(ViewerApp, AnOverlayTurnedOnLaterShowsWhenItsMapsArrive) {
 // The panel's environment: a map lights the scene and stays when only the strength changes; a
 // map that cannot be read leaves everything as it was.
 TEST(ViewerApp, ThePanelChangesTheEnvironment) {
-  ViewerApp app(cornell(16));
+  ViewerApp app(cornellView(16));
   EXPECT_FALSE(app.options().scene->scene.environment.present());
   const std::string sky = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/env/sky.hdr";
   app.setEnvironment({sky, 2.0f, 30.0f});

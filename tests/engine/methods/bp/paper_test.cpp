@@ -27,13 +27,7 @@ std::unique_ptr<PreparedScene> loadScaled(const std::string& name, int size) {
   return test::shippedScene(name, size);
 }
 
-// The values of the snapshot's map `id` (the test fails when it has none).
-const std::vector<float>& mapOf(const Snapshot& s, MapId id) {
-  static const std::vector<float> none;
-  const SnapshotMap* m = s.map(id);
-  EXPECT_NE(m, nullptr) << "no " << id.name() << " map";
-  return m ? m->values : none;
-}
+using test::mapOf;
 
 using test::runToEnd;
 

@@ -2,6 +2,7 @@
 // thresholds Phi, eq. 18 on a two-pixel image by hand, and the filterbank's behaviour on
 // constant, step-edge and noisy images, its second pass, and its thread independence.
 #include "methods/bp/reconstruct.h"
+#include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -15,8 +16,8 @@
 namespace penumbra {
 namespace {
 
-const float kNaN = std::numeric_limits<float>::quiet_NaN();
-const float kInf = std::numeric_limits<float>::infinity();
+using test::kInf;
+using test::kNaN;
 
 // Grey noise around `mean` with relative amplitude `amplitude`, uniform.
 Image noisyImage(int width, int height, float mean, float amplitude, uint32_t seed) {

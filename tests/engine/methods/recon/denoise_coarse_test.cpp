@@ -4,6 +4,8 @@
 // bands and thread counts give the same bits; and coarseConfig halves the bank.
 #include "methods/recon/denoise.h"
 
+#include "tests/test_paths.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -54,12 +56,7 @@ struct Picture {
   }
 };
 
-double mse(const std::vector<vec3>& image, const std::vector<vec3>& clean) {
-  double sum = 0.0;
-  for (size_t p = 0; p < image.size(); ++p)
-    for (int c = 0; c < 3; ++c) sum += std::pow(double(image[p][c]) - double(clean[p][c]), 2);
-  return sum / (3.0 * double(image.size()));
-}
+using test::mse;
 
 // A checker of 3-pixel squares (albedo 0.2 / 0.8: finer than the blocks) under smooth light,
 // with noise of sigma 0.35 x light: about what one sample per pixel gives.

@@ -5,6 +5,8 @@
 // the output depends neither on the thread count nor on non-finite neighbours.
 #include "methods/recon/denoise.h"
 
+#include "tests/test_paths.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -79,16 +81,7 @@ void addNoise(Scene& s, const std::vector<float>& sigma, uint32_t seed) {
 }
 
 // Mean squared error against the clean image, over pixels and channels.
-double mse(const std::vector<vec3>& image, const std::vector<vec3>& clean) {
-  double sum = 0.0;
-  for (size_t p = 0; p < image.size(); ++p) {
-    for (int c = 0; c < 3; ++c) {
-      const double d = double(image[p][c]) - double(clean[p][c]);
-      sum += d * d;
-    }
-  }
-  return sum / (3.0 * double(image.size()));
-}
+using test::mse;
 
 double identityShare(const DenoiseResult& r) {
   return double(std::count(r.scale.begin(), r.scale.end(), uint8_t(0))) / double(r.scale.size());
