@@ -64,7 +64,7 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-double mse(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& clean) {
+double mse(std::span<const glm::vec3> image, std::span<const glm::vec3> clean) {
   double sum = 0.0;
   for (size_t p = 0; p < image.size(); ++p)
     for (int c = 0; c < 3; ++c) {

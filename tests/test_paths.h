@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,7 @@ std::string readFile(const std::filesystem::path& path);
 std::vector<std::string> lines(const std::string& text);
 
 // Mean squared error of an image against a clean one, over pixels and channels.
-double mse(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& clean);
+double mse(std::span<const glm::vec3> image, std::span<const glm::vec3> clean);
 
 // Expects each component of a and b to agree within the tolerance.
 void expectNear(glm::vec3 a, glm::vec3 b, float tolerance = 1e-5f);

@@ -1,5 +1,6 @@
 #include "methods/error_allocation.h"
 
+#include "core/large_pages.h"
 #include "core/rng.h"
 
 #include <tbb/blocked_range.h>
@@ -63,7 +64,8 @@ std::vector<uint32_t> allocateByError(std::span<const float> error, std::span<co
     if (std::isfinite(e)) top = std::max(top, e);
   // Per pixel: sqrt(c_p) and its count; a pixel that may receive no samples gets root 0 and
   // an infinite count, so that every target stays below it and the sums need no branch.
-  std::vector<double> root(n), have(n);
+  // Made afresh every round: huge pages, one fault per 2 MiB (core/large_pages.h).
+  LargeVector<double> root(n), have(n);
   double countSum = 0;
   size_t activeCount = 0;
   for (size_t p = 0; p < n; ++p) {
@@ -135,7 +137,8 @@ std::vector<float> dilate3x3(std::span<const float> values, int width, int heigh
   // Non-finite values are skipped (as -inf), and the result is at least 0 (a pixel whose whole
   // neighbourhood is non-finite gets 0).
   const size_t w = size_t(width);
-  std::vector<float> rows(values.size()), out(values.size());
+  LargeVector<float> rows(values.size());
+  std::vector<float> out(values.size());
   auto finite = [](float v) { return std::isfinite(v) ? v : -HUGE_VALF; };
   tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {

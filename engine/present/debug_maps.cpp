@@ -481,7 +481,8 @@ vec3 colormapDiverging(float t) {
 Image mapColors(std::span<const float> values, int width, int height, const MapLegend& legend) {
   requireMapSize(values, width, height, legend, "");
   Image image(width, height);
-  image.pixels = colorsAndItems(values, legend, nullptr);
+  const std::vector<vec3> colors = colorsAndItems(values, legend, nullptr);
+  image.pixels.assign(colors.begin(), colors.end());
   return image;
 }
 

@@ -176,8 +176,8 @@ class ConsistentMethod final : public ProgressiveMethod {
   std::vector<std::vector<TracedSample>> coarseTraced_;
 };
 
-template <class T>
-size_t bytesOf(const std::vector<T>& v) {
+template <class T, class Allocator>
+size_t bytesOf(const std::vector<T, Allocator>& v) {
   return v.capacity() * sizeof(T);
 }
 
@@ -422,8 +422,10 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // error where it chose a wide filter, and those pixels starve; by the raw variance, 2.7e-5.
   // One pass over the film (it is the large array) gives each pixel's raw relMSE, its raw MSE
   // (for the absolute term) and its mean value.
-  std::vector<float> raw(n), mse(n);
-  std::vector<double> value(n);
+  // Made afresh every round: huge pages, one fault per 2 MiB (core/large_pages.h).
+  LargeVector<float> raw(n);
+  LargeVector<double> value(n);
+  std::vector<float> mse(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t p = range.begin(); p < range.end(); ++p) {
@@ -457,7 +459,7 @@ std::vector<float> ConsistentMethod::allocationError() const {
   // The totals are whole numbers, kept as the samples are traced.
   const double meanCost =
       totalTraced_ > 0 && totalRays_ > 0 ? double(totalRays_) / double(totalTraced_) : 1.0;
-  std::vector<float> e(n);
+  LargeVector<float> e(n);
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t p = range.begin(); p < range.end(); ++p) {

@@ -262,7 +262,7 @@ class GemMethod final : public AllocationMethod {
     if (!reconstructImage) return;
     const gem::ScaleSelection s = gem::selectScales(statistics(), gem::finalScales(), gamma_, true);
     snap.reconstructed = Image(width_, height_);
-    snap.reconstructed.pixels = s.estimate;
+    snap.reconstructed.pixels.assign(s.estimate.begin(), s.estimate.end());
     snap.addMap(maps::FilterScale, "filter scale", asFloats(s.scale),
                 MapLegend::categorical(scaleLabels()));
     shownScale_ = s.scale;  // what the inspector tells of the pixel

@@ -229,7 +229,8 @@ std::vector<float> boxMean(std::span<const float> values, int width, int height,
   auto counts = [&](size_t q) {
     return std::isfinite(values[q]) && (valid.empty() || valid[q] > 0.0f);
   };
-  std::vector<double> rowSum(values.size()), rowCount(values.size());
+  // Huge pages (core/large_pages.h): these are made afresh at every round and picture.
+  LargeVector<double> rowSum(values.size()), rowCount(values.size());
   std::vector<float> out(values.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {

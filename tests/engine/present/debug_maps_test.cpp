@@ -285,7 +285,7 @@ TEST(DebugMapsText, DigitGlyphsAreDistinct) {
 }
 
 TEST(DebugMapsText, EveryPrintableGlyphIsDrawnAndUnique) {
-  std::vector<std::vector<vec3>> seen;
+  std::vector<LargeVector<vec3>> seen;
   for (char c = '!'; c <= '~'; ++c) {
     const Image glyph = textImage(std::string(1, c));
     EXPECT_GT(litPixels(glyph), 0) << "'" << c << "'";

@@ -314,7 +314,7 @@ Scene texturedQuad(const std::string& materialJson, std::vector<vec3> texels, in
     "objects": [{"shape": "rectangle", "size": [2, 2], "material": "m",
                  "transform": {"rotate": [90, 1, 0, 0]}}]})");
   Image image(width, int(texels.size()) / width);
-  image.pixels = std::move(texels);
+  image.pixels.assign(texels.begin(), texels.end());
   scene.images.push_back(makeTextureImage(image));
   Texture texture;
   texture.kind = Texture::Kind::Image;

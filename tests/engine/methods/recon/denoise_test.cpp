@@ -128,8 +128,7 @@ Scene gradientScene(int width, int height, float sigmaScale, uint32_t seed) {
   return s;
 }
 
-void expectRelativelyEqual(const std::vector<vec3>& a, const std::vector<vec3>& b,
-                           double tolerance) {
+void expectRelativelyEqual(std::span<const vec3> a, std::span<const vec3> b, double tolerance) {
   ASSERT_EQ(a.size(), b.size());
   for (size_t p = 0; p < a.size(); ++p) {
     for (int c = 0; c < 3; ++c) {
