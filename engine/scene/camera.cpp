@@ -1,5 +1,7 @@
 #include "scene/camera.h"
 
+#include "core/constants.h"
+
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
@@ -39,7 +41,7 @@ CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
     f.fullWidth = camera.fullWidth;
     f.fullHeight = camera.fullHeight;
   }
-  f.halfHeight = std::tan(0.5f * camera.vfovDegrees * 3.14159265358979f / 180.0f);
+  f.halfHeight = std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
   f.halfWidth = f.halfHeight * float(f.fullWidth) / float(f.fullHeight);
   f.lensRadius = camera.lensRadius;
   f.focusDistance = camera.focusDistance > 0.0f ? camera.focusDistance : viewLength;

@@ -1,5 +1,7 @@
 #include "scene/camera_control.h"
 
+#include "core/constants.h"
+
 #include <glm/geometric.hpp>
 #include <glm/gtx/rotate_vector.hpp>
 
@@ -41,7 +43,7 @@ Camera orbitCamera(const Camera& camera, float yaw, float pitch) {
   // Limit pitch so the offset stays at least ~1 degree away from the up axis.
   const float current = std::acos(std::clamp(glm::dot(offset / f.distance, worldUp), -1.0f, 1.0f));
   const float limit = 0.0175f;
-  const float target = std::clamp(current - pitch, limit, float(M_PI) - limit);
+  const float target = std::clamp(current - pitch, limit, kPi - limit);
   offset = glm::rotate(offset, target - current, f.right);
   offset = glm::rotate(offset, yaw, worldUp);
   c.eye = camera.lookAt + offset;
@@ -51,8 +53,8 @@ Camera orbitCamera(const Camera& camera, float yaw, float pitch) {
 Camera panCamera(const Camera& camera, float dx, float dy) {
   Camera c = camera;
   const Frame f = frameOf(camera);
-  const float viewHeight = 2.0f * std::max(f.distance, 1e-6f) *
-                           std::tan(0.5f * camera.vfovDegrees * float(M_PI) / 180.0f);
+  const float viewHeight =
+      2.0f * std::max(f.distance, 1e-6f) * std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
   const vec3 move = (-dx * f.right + dy * f.up) * viewHeight;
   c.eye += move;
   c.lookAt += move;

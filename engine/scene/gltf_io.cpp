@@ -1,5 +1,6 @@
 #include "scene/gltf_io.h"
 
+#include "core/constants.h"
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_animation.h"
 #include "scene/gltf_file.h"
@@ -671,7 +672,7 @@ class Converter {
     out_.camera.eye = eye;
     out_.camera.lookAt = eye + glm::normalize(forward);
     out_.camera.up = glm::normalize(up);
-    const double degrees = p.yfov * 180.0 / 3.14159265358979323846;
+    const double degrees = p.yfov * 180.0 / kPiD;
     out_.camera.vfovDegrees = degrees > 0.01 && degrees < 179.9 ? float(degrees) : 40.0f;
   }
 

@@ -17,7 +17,9 @@
 
 namespace penumbra {
 
-namespace {
+// Named, not anonymous: Accel::Impl holds CutoutMesh, and a type with external linkage must not
+// hold one with internal linkage (-Wsubobject-linkage in a unity build).
+namespace accel_detail {
 // What a mesh with cut-out materials needs to test a hit's coverage, copied out of the scene so
 // that the acceleration structure stands alone (views share it while scenes come and go).
 struct CutoutMesh {
@@ -81,7 +83,9 @@ void cutoutFilter(const RTCFilterFunctionNArguments* args) {
       args->valid[i] = 0;
   }
 }
-}  // namespace
+}  // namespace accel_detail
+
+using accel_detail::CutoutMesh;
 
 struct Accel::Impl {
   RTCDevice device = nullptr;
@@ -143,8 +147,8 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     if (std::any_of(mesh.materialIds.begin(), mesh.materialIds.end(),
                     [&](uint32_t id) { return scene.materials[id].hasCutouts(); })) {
       rtcSetGeometryUserData(geom, addCutouts(scene, mesh, alphaImages));
-      rtcSetGeometryIntersectFilterFunction(geom, cutoutFilter);
-      rtcSetGeometryOccludedFilterFunction(geom, cutoutFilter);
+      rtcSetGeometryIntersectFilterFunction(geom, accel_detail::cutoutFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, accel_detail::cutoutFilter);
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(impl_->scene, geom, unsigned(m));
