@@ -14,7 +14,8 @@
 # reconstructed), the window's trace speed against a batch render's (kept samples per second),
 # and the shown picture's relMSE against an LD render of REF_SPP (default 64) at 0.5, 1, 2 and
 # 4 s, and the reference's own noise: half the relMSE between it and a second reference of
-# another seed. A figure near that floor is not resolved (raise REF_SPP).
+# another seed. A figure near that floor is not resolved (raise REF_SPP). BP_FLAGS (say
+# "--coarse-recon-spp 4") go to the default method's batch render and window.
 # With --asset --glb: the same for the asset's .glb opened directly (no floor, no set: lit by
 # the default environment), as an artist opens a model.
 #
@@ -109,13 +110,15 @@ if [ $asset -eq 1 ]; then
   printf 'wait 8\ndrag left 700 400 760 400\nwait 3\ndrag left 760 400 700 400\nwait 0.5\nsave %s/t0.5.exr\nwait 0.5\nsave %s/t1.exr\nwait 1\nsave %s/t2.exr\nwait 2\nsave %s/t4.exr\nquit\n' \
     "$work" "$work" "$work" "$work" >"$work/times.txt"
   for method in bp ld; do
+    flags=()
+    [ $method = bp ] && read -r -a flags <<<"${BP_FLAGS:-}"
     build/penumbra render "$scene" --method $method --spp 4 --size $size -q -o "$work/batch.exr" \
-      --stats "$work/batch_$method.json"
+      --stats "$work/batch_$method.json" "${flags[@]}"
     mkdir -p "$work/$method"
     sed "s|$work/t|$work/$method/t|g" "$work/times.txt" >"$work/$method/times.txt"
     xvfb-run -a -s "-screen 0 1640x800x24" build/penumbra view "$scene" --size $size \
       --method $method --script "$work/$method/times.txt" --report "$work/$method/report.json" \
-      >/dev/null 2>&1
+      "${flags[@]}" >/dev/null 2>&1
     for t in 0.5 1 2 4; do
       if [ -f "$work/$method/t$t.exr" ]; then
         build/penumbra diff "$work/$method/t$t.exr" "$work/ref.exr" | awk '$1 == "rel_mse" {print $2}'
