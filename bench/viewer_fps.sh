@@ -17,7 +17,8 @@
 # another seed. A figure near that floor is not resolved (raise REF_SPP). BP_FLAGS (say
 # "--coarse-recon-spp 4") go to the default method's batch render and window.
 # With --asset --glb: the same for the asset's .glb opened directly (no floor, no set: lit by
-# the default environment), as an artist opens a model.
+# the default environment), as an artist opens a model. With --asset --on SCENE: the same for
+# another scene at 1280x720.
 #
 # With --trace-speed: the asset scene at 1280x720 with LD (or --method M), the window's trace
 # speed (kept spp over the method's own seconds at its newest picture shown, the report's
@@ -30,11 +31,11 @@
 # The batch render is of 4 spp with LD and 16 with any other method, whose adaptive rounds
 # would otherwise not have started (its time includes one reconstruction, as the window's).
 # Usage: bench/viewer_fps.sh [SCENE] [--size 512x512] [--seconds 10]
-#        bench/viewer_fps.sh --asset [--glb]
+#        bench/viewer_fps.sh --asset [--glb | --on SCENE]
 #        bench/viewer_fps.sh --trace-speed [--seconds 30] [--drags 40] [--method ld|bp|...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=scenes/balls.json size=512x512 seconds=10 asset=0 glb=0 speed=0 drags=40 method=ld
+scene=scenes/balls.json size=512x512 seconds=10 asset=0 glb=0 on= speed=0 drags=40 method=ld
 while [ $# -gt 0 ]; do
   case $1 in
     --trace-speed) speed=1; seconds=30; shift ;;
@@ -44,6 +45,7 @@ while [ $# -gt 0 ]; do
     --seconds) seconds=$2; shift 2 ;;
     --asset) asset=1; shift ;;
     --glb) glb=1; shift ;;
+    --on) on=$2; shift 2 ;;
     *) scene=$1; shift ;;
   esac
 done
@@ -96,6 +98,7 @@ if [ $asset -eq 1 ]; then
   scene=build/bench/asset_scene/scene.json size=1280x720
   [ -f "$scene" ] || scripts/make_asset_scene.sh >/dev/null
   [ $glb -eq 1 ] && scene=build/bench/asset_scene/asset.glb
+  [ -n "$on" ] && scene=$on
   ref_spp=${REF_SPP:-64}
   echo "asset scene $scene at $size: references (LD, $ref_spp spp, two seeds)..."
   build/penumbra render "$scene" --method ld --spp "$ref_spp" --size $size -q -o "$work/ref.exr" \

@@ -67,6 +67,11 @@ class RenderSession {
   void setMapsWanted(bool wanted);
   uint64_t inspectionVersion() const { return inspectionVersion_.load(); }
 
+  // Called on the worker thread, with the session's lock held, each time a snapshot is
+  // published (latest() has a new one): a window wakes its event loop with it, so that a new
+  // picture is drawn at once rather than at the loop's next look. It must not call the session.
+  void setOnPublish(std::function<void()> onPublish);
+
   // Blocks until the session is not Running (paused, finished, cancelled or failed) or
   // `timeoutSeconds` pass; returns whether it stopped running.
   bool wait(double timeoutSeconds = 1e30);
@@ -109,6 +114,7 @@ class RenderSession {
   std::string error_;
   std::atomic<bool> cancelRound_{false};
   std::shared_ptr<const Snapshot> latest_;
+  std::function<void()> onPublish_;  // (guarded by mutex_)
   uint64_t latestGeneration_ = 0;
   std::atomic<uint64_t> version_{0};
   int inspectX_ = -1, inspectY_ = -1;

@@ -178,6 +178,8 @@ void frameLoop(Window& host, std::optional<InputScript>& script, const WindowReq
   auto last = start, lastFrame = Clock::time_point{}, lastRss = Clock::time_point{};
   double frameCost = 0;
   bool scriptRunning = script.has_value();
+  bool pictureWaiting = false;  // a published picture not drawn yet
+  uint64_t publishedSeen = app.session().version();
   // PENUMBRA_FRAME_PACING=off: the pacing before it (any change drawn at up to 60 frames a
   // second, and every frame for half a second after input), for bench/viewer_fps.sh to compare.
   const char* pacingVariable = std::getenv("PENUMBRA_FRAME_PACING");
@@ -194,19 +196,28 @@ void frameLoop(Window& host, std::optional<InputScript>& script, const WindowReq
     if (script && !scriptRunning) break;
     app.fly(dt);
     if (app.update()) host.dirty = true;
+    // A picture the method published is drawn within a frame (the pacing below spaces the
+    // frames that previews, hover and the panel want): it is what the person waits for, and
+    // a running method publishes at most five a second.
+    if (const uint64_t v = app.session().version(); v != publishedSeen) {
+      publishedSeen = v;
+      pictureWaiting = true;
+    }
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(host.window, &fw, &fh);
     // Hover feedback in the panel needs frames for a moment after input.
     const bool interacting = seconds(now - host.lastInput) < (unpaced ? 0.5 : 0.3);
     const bool rendering = app.session().state() == RenderSession::State::Running;
-    const double pacing =
-        request.continuous || unpaced ? 1.0 / 60 : framePacing(rendering, interacting, frameCost);
+    const double pacing = request.continuous || unpaced ? 1.0 / 60
+                          : pictureWaiting              ? 1.0 / 30
+                                           : framePacing(rendering, interacting, frameCost);
     const bool wanted =
         !host.iconified && fw > 0 && fh > 0 && (host.dirty || interacting || request.continuous);
     const double sinceFrame = seconds(now - lastFrame);
     if (wanted && sinceFrame >= pacing) {
       frameCost = drawWindowFrame(host, dt);
       lastFrame = Clock::now();
+      pictureWaiting = false;
     }
     // Sleep until the next frame is due, or a while to look for a new picture and the script's
     // next step; events wake the loop early.
@@ -293,6 +304,8 @@ void runWindow(ViewOptions options, const WindowRequest& request) {
   host.stats = &windowStats;
   ViewerApp app(std::move(options));
   host.app = &app;
+  // A new picture wakes the loop (which otherwise looks every 1/30 s while rendering).
+  app.session().setOnPublish([] { glfwPostEmptyEvent(); });
   app.setRecordFrameTimes(false);
   glfwSetWindowUserPointer(window, &host);
   installCallbacks(window);

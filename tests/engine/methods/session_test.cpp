@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -50,7 +51,10 @@ class CountedMethod final : public ProgressiveMethod {
  public:
   struct Counts {
     std::atomic<int> alive{0}, mostAlive{0}, made{0};
+    std::mutex mutex;
+    std::vector<int> snapshotRounds;  // the round of each snapshot taken, in order
   };
+  int snapshotMs = 0;  // what a snapshot costs
   CountedMethod(Counts& counts, int roundMs)
       : ProgressiveMethod(RunShape::progressive(1)), counts_(counts), roundMs_(roundMs) {
     const int alive = ++counts_.alive;
@@ -67,6 +71,11 @@ class CountedMethod final : public ProgressiveMethod {
   }
   int roundsDone() const override { return rounds_; }
   std::shared_ptr<Snapshot> snapshot(bool, const std::atomic<bool>*) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(snapshotMs));
+    {
+      const std::lock_guard<std::mutex> lock(counts_.mutex);
+      counts_.snapshotRounds.push_back(rounds_);
+    }
     auto snap = std::make_shared<Snapshot>();
     snap->round = rounds_;
     snap->width = snap->height = 1;
@@ -280,6 +289,39 @@ TEST(Session, ARestartFreesTheReplacedMethodAtOnce) {
     EXPECT_EQ(counts.alive.load(), 0);
   }
   EXPECT_EQ(counts.alive.load(), 0);
+}
+
+// The coarse pass's pictures are published whatever their reconstruction costs: a snapshot
+// dearer than its round (as at 1280x720) would otherwise skip the second and third rounds'
+// pictures. Later rounds go by publishInterval. Every publication wakes the front end.
+TEST(Session, PublishesTheFirstThreeRoundsThenByTheTimeRule) {
+  CountedMethod::Counts counts;
+  std::atomic<int> woken{0};
+  RenderSession session(1);
+  session.setOnPublish([&woken] { ++woken; });
+  session.start([&counts] {
+    auto method = std::make_unique<CountedMethod>(counts, 5);
+    method->snapshotMs = 60;
+    return method;
+  });
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < deadline) {
+    {
+      const std::lock_guard<std::mutex> lock(counts.mutex);
+      if (counts.snapshotRounds.size() >= 4) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  session.cancel();
+  const std::lock_guard<std::mutex> lock(counts.mutex);
+  ASSERT_GE(counts.snapshotRounds.size(), 4u);
+  EXPECT_EQ(counts.snapshotRounds[0], 1);
+  EXPECT_EQ(counts.snapshotRounds[1], 2);
+  EXPECT_EQ(counts.snapshotRounds[2], 3);
+  // Then at least kMinPublishInterval (0.2 s) apart: rounds of 5 ms are skipped between.
+  EXPECT_GT(counts.snapshotRounds[3], 4);
+  EXPECT_EQ(uint64_t(woken.load()), session.version());
+  EXPECT_GE(woken.load(), 3);
 }
 
 }  // namespace
