@@ -94,8 +94,11 @@ struct DenoiseConfig {
   int denseRadius = 4;
   // The first pictures of a large image (methods/film_reconstruction.h says which) are
   // reconstructed at half resolution (denoiseCoarse) while its samples per pixel are at most
-  // this: 0 never. A final image is always reconstructed in full.
-  int coarseReconSpp = 2;
+  // this: 0 never. A final image is always reconstructed in full. 4 covers the coarse pass
+  // (1 + 1 + 2 spp): at 1280x720 its 4-spp picture then costs 0.2 s instead of 0.6-1.1 s and
+  // lands about a second sooner, and the next (full) picture sooner with it (docs/BENCHMARKS.md:
+  // the .glb and tire in the window, relMSE at 2 and 4 s after a move).
+  int coarseReconSpp = 4;
 };
 
 struct DenoiseResult {

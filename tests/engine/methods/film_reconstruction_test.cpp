@@ -63,11 +63,12 @@ TEST(FilmReconstruction, TwoSamplesPerPixelUseThePixelsOwnVariance) {
 }
 
 TEST(FilmReconstruction, ALargeImagesFirstPicturesAreReconstructedAtHalfResolution) {
-  const recon::DenoiseConfig config;  // coarseReconSpp 2
+  const recon::DenoiseConfig config;  // coarseReconSpp 4: the whole coarse pass (1 + 1 + 2)
   const Film large(512, 512), small(511, 512);
   EXPECT_TRUE(reconstructsCoarsely(large, config, 1.0, false));
   EXPECT_TRUE(reconstructsCoarsely(large, config, 2.0, false));
-  EXPECT_FALSE(reconstructsCoarsely(large, config, 2.5, false)) << "past coarseReconSpp";
+  EXPECT_TRUE(reconstructsCoarsely(large, config, 4.0, false));
+  EXPECT_FALSE(reconstructsCoarsely(large, config, 4.5, false)) << "past coarseReconSpp";
   EXPECT_FALSE(reconstructsCoarsely(large, config, 1.0, true)) << "a final image is full";
   EXPECT_FALSE(reconstructsCoarsely(small, config, 1.0, false)) << "below kCoarsePixels";
   recon::DenoiseConfig never = config;
