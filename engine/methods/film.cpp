@@ -141,6 +141,13 @@ Image Film::varianceOfMeanImage() const {
 FilmBuffers Film::buffers(unsigned parts) const { return buffers(parts, 0, height_, depthScale()); }
 
 FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depthScale) const {
+  FilmBuffers b;
+  fillBuffers(b, parts, firstRow, lastRow, depthScale);
+  return b;
+}
+
+void Film::fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow,
+                       float depthScale) const {
   firstRow = std::clamp(firstRow, 0, height_);
   lastRow = std::clamp(lastRow, firstRow, height_);
   const size_t first = size_t(firstRow) * size_t(width_);
@@ -148,29 +155,19 @@ FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depth
   const bool radiance = parts & FilmBuffers::kRadiance, features = parts & FilmBuffers::kFeatures,
              featureVariances = parts & FilmBuffers::kFeatureVariances,
              emissionVariance = parts & FilmBuffers::kEmissionVariance;
-  FilmBuffers b;
   b.width = width_;
   b.height = lastRow - firstRow;
-  if (radiance) {
-    b.mean.resize(n);
-    b.variance.resize(n);
-    b.halfA.resize(n);
-    b.halfB.resize(n);
-  }
   const bool meanOnly = !radiance && (parts & FilmBuffers::kMean);
-  if (meanOnly) b.mean.resize(n);
-  if (features) {
-    b.emission.resize(n);
-    b.albedo.resize(n);
-    b.normal.resize(n);
-    b.depth.resize(n);
-  }
-  if (emissionVariance) b.emissionVariance.resize(n);
-  if (featureVariances) {
-    b.albedoVariance.resize(n);
-    b.normalVariance.resize(n);
-    b.depthVariance.resize(n);
-  }
+  // Every entry of a part asked for is written below: sizes only (capacity is kept).
+  auto size = [n](auto& v, bool wanted) { wanted ? v.resize(n) : v.clear(); };
+  size(b.mean, radiance || meanOnly);
+  for (LargeVector<vec3>* v : {&b.variance, &b.halfA, &b.halfB}) size(*v, radiance);
+  for (LargeVector<vec3>* v : {&b.emission, &b.albedo, &b.normal}) size(*v, features);
+  size(b.depth, features);
+  size(b.emissionVariance, emissionVariance);
+  size(b.albedoVariance, featureVariances);
+  size(b.normalVariance, featureVariances);
+  size(b.depthVariance, featureVariances);
   // Each entry is its pixel's own: the pixels in parallel.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<size_t>& r) {
@@ -198,7 +195,6 @@ FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depth
                         }
                       }
                     });
-  return b;
 }
 
 float Film::depthScale() const {

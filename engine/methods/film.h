@@ -122,6 +122,12 @@ class Film {
   // Rows [firstRow, lastRow) only (clipped to the image; height lastRow - firstRow), their
   // depths multiplied by `depthScale` (depthScale() for the same entries as buffers()).
   FilmBuffers buffers(unsigned parts, int firstRow, int lastRow, float depthScale) const;
+  // The same into `b`, whose vectors keep their memory: the parts asked for are resized, the
+  // others emptied (their capacity kept). A reconstruction that reads the film band by band
+  // fills one FilmBuffers again and again, and its pages are not made, faulted and cleared
+  // afresh for every band.
+  void fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow,
+                   float depthScale) const;
   // What FilmBuffers' depths are multiplied by: 1 / the mean depth of the pixels that have one.
   float depthScale() const;
   size_t memoryBytes() const {

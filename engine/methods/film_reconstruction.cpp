@@ -95,13 +95,13 @@ recon::DenoiseResult reconstructPicture(const Film& film, const recon::DenoiseCo
   if (!reconstructsCoarsely(film, config, samplesPerPixel, final))
     return reconstructFilm(film, config, cancel);
   // Bands of the film's buffers in both passes: what the filter reads, then what the
-  // upsampling reads (the estimate and the features' means).
+  // upsampling reads (the estimate and the features' means). Each band is filled into the
+  // last one's memory.
   const float depthScale = film.depthScale();
   FilmBuffers band;
   auto source = [&](unsigned parts) {
     return [&, parts](int first, int last) {
-      band = FilmBuffers{};
-      band = film.buffers(parts, first, last, depthScale);
+      film.fillBuffers(band, parts, first, last, depthScale);
       return inputOf(band);
     };
   };

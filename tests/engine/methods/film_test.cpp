@@ -156,6 +156,25 @@ TEST(Film, BuffersOfARangeOfRowsAreThoseRowsOfTheWhole) {
   expectRows(whole.normalVariance, rows.normalVariance);
   expectRows(whole.depth, rows.depth);
   expectRows(whole.depthVariance, rows.depthVariance);
+
+  // Filled again into the same buffers (as a banded reconstruction does): the same rows, and
+  // the parts not asked for are empty, whatever the last fill held.
+  FilmBuffers band;
+  film.fillBuffers(band, FilmBuffers::kAll, 0, 7, film.depthScale());
+  film.fillBuffers(band, FilmBuffers::kMean | FilmBuffers::kFeatures, 2, 5, film.depthScale());
+  EXPECT_EQ(band.height, 3);
+  expectRows(whole.mean, band.mean);
+  expectRows(whole.albedo, band.albedo);
+  expectRows(whole.normal, band.normal);
+  expectRows(whole.depth, band.depth);
+  expectRows(whole.emission, band.emission);
+  EXPECT_TRUE(band.variance.empty() && band.halfA.empty() && band.halfB.empty());
+  EXPECT_TRUE(band.emissionVariance.empty() && band.albedoVariance.empty());
+  EXPECT_TRUE(band.normalVariance.empty() && band.depthVariance.empty());
+  film.fillBuffers(band, FilmBuffers::kAll, 2, 5, film.depthScale());
+  expectRows(whole.variance, band.variance);
+  expectRows(whole.halfB, band.halfB);
+  expectRows(whole.depthVariance, band.depthVariance);
 }
 
 }  // namespace
