@@ -231,7 +231,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     // event estimate at this ray's hit will read (its light point is the dimension after the
     // light choice) while Embree traces the ray.
     glm::vec2 uNextLightPoint;
-    if (environment && dimensions.peek2D(1, uNextLightPoint))
+    if (environment && dimensions.peek2D(1, uNextLightPoint, Scrambling::Owen))
       environment->prefetch(uNextLightPoint);
     Hit hit;
     ++counters.rays;
@@ -279,11 +279,13 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     }
 
     // Every bounce owns five dimensions (above), drawn only when used and skipped
-    // otherwise, so each dimension means the same thing in every path of the pixel.
+    // otherwise, so each dimension means the same thing in every path of the pixel. The light's
+    // two are Owen-scrambled: their fine digits choose an emitter among many and an environment
+    // texel through its alias tables (Scrambling in trace/sampler.h).
     const bool nextEvent = !bsdf.isSpecular() && !prepared.lights.empty();
     if (nextEvent) {
-      const float uLight = dimensions.next1D();
-      const glm::vec2 uLightPoint = dimensions.next2D();
+      const float uLight = dimensions.next1D(Scrambling::Owen);
+      const glm::vec2 uLightPoint = dimensions.next2D(Scrambling::Owen);
       LightSample ls;
       if (sampleLight(scene, prepared.lights, surface.point, ray.time, uLight, uLightPoint, ls)) {
         const vec3 wi = ls.wi;

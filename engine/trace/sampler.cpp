@@ -85,34 +85,40 @@ CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {
   return s;
 }
 
-float PixelSampler::next1D() {
+float PixelSampler::next1D(Scrambling scrambling) {
   if (kind_ == SamplerKind::Independent) return rng_.nextFloat();
   const DimensionKeys& k = keys(dimension_++);
-  return vanDerCorput(shuffledIndex(k), k.scrambleX);
+  const uint32_t index = shuffledIndex(k);
+  return scrambling == Scrambling::Owen ? toUnitFloat(owenScramble(reverseBits(index), k.scrambleX))
+                                        : vanDerCorput(index, k.scrambleX);
 }
 
-glm::vec2 PixelSampler::next2D() {
+glm::vec2 PixelSampler::next2D(Scrambling scrambling) {
   if (kind_ == SamplerKind::Independent) {
     const float a = rng_.nextFloat();
     return {a, rng_.nextFloat()};
   }
-  if (dimension_ == peekedDimension_) {
+  if (dimension_ == peekedDimension_ && scrambling == peekedScrambling_) {
     ++dimension_;
     return peeked_;
   }
-  return lowDiscrepancy2D(dimension_++);
+  return lowDiscrepancy2D(dimension_++, scrambling);
 }
 
-bool PixelSampler::peek2D(uint32_t ahead, glm::vec2& value) {
+bool PixelSampler::peek2D(uint32_t ahead, glm::vec2& value, Scrambling scrambling) {
   if (kind_ == SamplerKind::Independent) return false;
   peekedDimension_ = dimension_ + ahead;
-  value = peeked_ = lowDiscrepancy2D(peekedDimension_);
+  peekedScrambling_ = scrambling;
+  value = peeked_ = lowDiscrepancy2D(peekedDimension_, scrambling);
   return true;
 }
 
-glm::vec2 PixelSampler::lowDiscrepancy2D(uint32_t dimension) {
+glm::vec2 PixelSampler::lowDiscrepancy2D(uint32_t dimension, Scrambling scrambling) {
   const DimensionKeys& k = keys(dimension);
   const uint32_t index = shuffledIndex(k);
+  if (scrambling == Scrambling::Owen)
+    return {toUnitFloat(owenScramble(reverseBits(index), k.scrambleX)),
+            toUnitFloat(owenScramble(sobol2Bits(index, 0), k.scrambleY))};
   return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
 }
 

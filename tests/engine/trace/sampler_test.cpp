@@ -215,6 +215,68 @@ TEST(Sampler, IndependentSamplesOfAPixelAreIndependent) {
   }
 }
 
+TEST(Sampler, OwenScrambledDimensionsStayStratified) {
+  // Owen scrambling permutes the digits nestedly, so every elementary interval still holds one
+  // point, in both block orders and past the first block.
+  for (BlockOrder order : {BlockOrder::Nested, BlockOrder::Shuffled}) {
+    for (int m : {0, 2, 4, 6}) {
+      PixelSampler sampler(SamplerKind::LowDiscrepancy, 99, 1u << m, order);
+      for (uint32_t first : {0u, 1u << m}) {
+        std::vector<glm::vec2> points;
+        std::set<int> strata;
+        for (uint32_t i = first; i < first + (1u << m); ++i) {
+          sampler.startSample(5, 9, i);
+          sampler.cameraSample();
+          strata.insert(int(sampler.next1D(Scrambling::Owen) * float(1 << m)));
+          points.push_back(sampler.next2D(Scrambling::Owen));
+        }
+        expectElementaryIntervals(points, m);
+        EXPECT_EQ(int(strata.size()), 1 << m) << "1D: one point per stratum";
+      }
+    }
+  }
+}
+
+TEST(Sampler, OwenScramblingGivesEachSampleItsOwnFineDigits) {
+  // The 64 samples of a pixel, and the digits below their 1/64 strata: with a digital shift
+  // they are the pixel's scramble in every sample, so a choice made by them (the 10th binary
+  // digit here, as an alias table's accept test reads the digits below its column) is the same
+  // for all 64; Owen-scrambled, about half the samples take each branch.
+  PixelSampler sampler(SamplerKind::LowDiscrepancy, 3, 64);
+  for (int pixel = 0; pixel < 8; ++pixel) {
+    int shiftedOnes[2] = {0, 0}, owenOnes[2] = {0, 0};
+    for (uint32_t i = 0; i < 64; ++i) {
+      sampler.startSample(pixel, 2 * pixel, i);
+      sampler.cameraSample();
+      const glm::vec2 shifted = sampler.next2D(Scrambling::DigitalShift);
+      const glm::vec2 owen = sampler.next2D(Scrambling::Owen);
+      auto tenthDigit = [](float u) { return int(u * 1024.0f) & 1; };
+      shiftedOnes[0] += tenthDigit(shifted.x), shiftedOnes[1] += tenthDigit(shifted.y);
+      owenOnes[0] += tenthDigit(owen.x), owenOnes[1] += tenthDigit(owen.y);
+    }
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_TRUE(shiftedOnes[c] == 0 || shiftedOnes[c] == 64) << shiftedOnes[c];
+      // Binomial(64, 1/2): 32 +- 4; 16 and 48 are four standard deviations out.
+      EXPECT_GT(owenOnes[c], 16) << "pixel " << pixel << ", coordinate " << c;
+      EXPECT_LT(owenOnes[c], 48) << "pixel " << pixel << ", coordinate " << c;
+    }
+  }
+}
+
+TEST(Sampler, OwenScrambleIsANestedPermutationOfTheDigits) {
+  // Two fractions that agree in their first k digits agree there after scrambling, and the
+  // scramble is a bijection on the digits it sees.
+  for (uint32_t seed : {1u, 0x9e3779b9u, 0xdeadbeefu}) {
+    std::set<uint32_t> images;
+    for (uint32_t top = 0; top < 256; ++top) {
+      const uint32_t a = top << 24, b = (top << 24) | 0x00abcdefu;
+      EXPECT_EQ(owenScramble(a, seed) >> 24, owenScramble(b, seed) >> 24);
+      images.insert(owenScramble(a, seed) >> 24);
+    }
+    EXPECT_EQ(images.size(), 256u) << "a bijection of the first 8 digits";
+  }
+}
+
 TEST(Sampler, RadicalInversesMatchHandValues) {
   // Base-2 radical inverse of 1, 2, 3 is 1/2, 1/4, 3/4; Sobol's second dimension of the
   // same indices is 1/2, 3/4, 1/4.
@@ -229,6 +291,32 @@ TEST(Sampler, RadicalInversesMatchHandValues) {
 // peek2D shows the value a later next2D returns, and peeking (which keeps the peeked value for
 // that draw) changes no draw: the same sequence comes out with and without peeks, across
 // samples and pixels, and a peek left undrawn does not leak into the next sample.
+TEST(Sampler, APeekIsHandedOutOnlyWithItsScrambling) {
+  // The integrator peeks at the light point (Owen-scrambled) for a prefetch: next2D hands the
+  // peeked value out when asked with the same scrambling, and computes the other one afresh.
+  PixelSampler plain(SamplerKind::LowDiscrepancy, 11, 16),
+      peeking(SamplerKind::LowDiscrepancy, 11, 16);
+  for (uint32_t i = 0; i < 16; ++i) {
+    plain.startSample(4, 1, i);
+    peeking.startSample(4, 1, i);
+    glm::vec2 peeked;
+    ASSERT_TRUE(peeking.peek2D(1, peeked, Scrambling::Owen));
+    EXPECT_EQ(plain.next1D(Scrambling::Owen), peeking.next1D(Scrambling::Owen));
+    const glm::vec2 owen = plain.next2D(Scrambling::Owen);
+    EXPECT_EQ(peeking.next2D(Scrambling::Owen), owen);
+    EXPECT_EQ(peeked, owen);
+    // The same dimension with the other scrambling, from a sampler that peeked with Owen.
+    PixelSampler shifted(SamplerKind::LowDiscrepancy, 11, 16);
+    shifted.startSample(4, 1, i);
+    shifted.next1D();
+    glm::vec2 unused;
+    peeking.startSample(4, 1, i);
+    ASSERT_TRUE(peeking.peek2D(1, unused, Scrambling::Owen));
+    peeking.next1D();
+    EXPECT_EQ(peeking.next2D(), shifted.next2D());
+  }
+}
+
 TEST(Sampler, PeekingChangesNoDraw) {
   PixelSampler plain(SamplerKind::LowDiscrepancy, 7, 16),
       peeking(SamplerKind::LowDiscrepancy, 7, 16);
