@@ -89,7 +89,7 @@ float PixelSampler::next1D(Scrambling scrambling) {
   if (kind_ == SamplerKind::Independent) return rng_.nextFloat();
   const DimensionKeys& k = keys(dimension_++);
   const uint32_t index = shuffledIndex(k);
-  return scrambling == Scrambling::Owen ? toUnitFloat(owenScramble(reverseBits(index), k.scrambleX))
+  return scrambling == Scrambling::Owen ? owenVanDerCorput(index, k.scrambleX)
                                         : vanDerCorput(index, k.scrambleX);
 }
 
@@ -117,7 +117,7 @@ glm::vec2 PixelSampler::lowDiscrepancy2D(uint32_t dimension, Scrambling scrambli
   const DimensionKeys& k = keys(dimension);
   const uint32_t index = shuffledIndex(k);
   if (scrambling == Scrambling::Owen)
-    return {toUnitFloat(owenScramble(reverseBits(index), k.scrambleX)),
+    return {owenVanDerCorput(index, k.scrambleX),
             toUnitFloat(owenScramble(sobol2Bits(index, 0), k.scrambleY))};
   return {vanDerCorput(index, k.scrambleX), sobol2(index, k.scrambleY)};
 }

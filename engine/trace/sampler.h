@@ -78,6 +78,12 @@ inline uint32_t owenScramble(uint32_t bits, uint32_t seed) {
   return reverseBits(laineKarrasHash(reverseBits(bits), seed));
 }
 
+// The Owen-scrambled van der Corput point of an index: owenScramble(reverseBits(index), seed),
+// whose two reversals of the index cancel.
+inline float owenVanDerCorput(uint32_t index, uint32_t seed) {
+  return toUnitFloat(reverseBits(laineKarrasHash(index, seed)));
+}
+
 // Bijection of [0, n) for n a power of two, chosen by `key`. Every step is invertible modulo
 // n = 2^b: xor with the key, multiply by an odd number, and xorshifts down by about b/2 and b/3
 // bits, so that every output bit depends on every input bit; three rounds with fresh keys.

@@ -274,6 +274,8 @@ TEST(Sampler, OwenScrambleIsANestedPermutationOfTheDigits) {
       images.insert(owenScramble(a, seed) >> 24);
     }
     EXPECT_EQ(images.size(), 256u) << "a bijection of the first 8 digits";
+    for (uint32_t index : {0u, 1u, 5u, 63u, 1000u, 0xfffffu})
+      EXPECT_EQ(owenVanDerCorput(index, seed), toUnitFloat(owenScramble(reverseBits(index), seed)));
   }
 }
 
