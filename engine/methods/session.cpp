@@ -158,6 +158,13 @@ void RenderSession::setMapsWanted(bool wanted) {
   }
 }
 
+void RenderSession::publishLocked(std::shared_ptr<const Snapshot> snapshot, uint64_t generation) {
+  latest_ = std::move(snapshot);
+  latestGeneration_ = generation;
+  ++version_;
+  if (onPublish_) onPublish_();
+}
+
 void RenderSession::setOnPublish(std::function<void()> onPublish) {
   std::lock_guard lock(mutex_);
   onPublish_ = std::move(onPublish);
@@ -253,10 +260,7 @@ void RenderSession::serveIdle(Worker& w, std::unique_lock<std::mutex>& lock) {
     }
     lock.lock();
     if (snapshot && generation == generation_ && !cancelRound_) {
-      latest_ = std::move(snapshot);
-      latestGeneration_ = generation;
-      ++version_;
-      if (onPublish_) onPublish_();
+      publishLocked(std::move(snapshot), generation);
     }
   }
   publishPending_ = false;
@@ -365,10 +369,7 @@ void RenderSession::worker() {
     // a paused view shows every sample traced (and a step then adds exactly one round).
     publishPending_ = !published && !r.finished;
     if (published) {
-      latest_ = std::move(r.snapshot);
-      latestGeneration_ = request.generation;
-      ++version_;
-      if (onPublish_) onPublish_();
+      publishLocked(std::move(r.snapshot), request.generation);
     }
     if (r.inspection && request.inspectX == inspectX_ && request.inspectY == inspectY_) {
       inspection_ = std::move(r.inspection);
