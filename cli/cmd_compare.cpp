@@ -13,6 +13,7 @@
 #include "cli/method_options.h"
 #include "cli/scene_options.h"
 #include "core/image_io.h"
+#include "core/large_pages.h"
 #include "eval/metrics.h"
 #include "eval/reference.h"
 #include "methods/factory.h"
@@ -252,6 +253,7 @@ RunOutcome runOnce(const PreparedScene& prepared, const MethodSpec& spec, const 
     if (k >= next) checkpoint(k), next = k + 1;
   }
   out.snap = method->snapshot(true);
+  returnFreedMemory();  // the reconstruction's planes, kept for a next round that is not coming
   return out;
 }
 

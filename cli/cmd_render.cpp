@@ -8,6 +8,7 @@
 #include "cli/scene_options.h"
 #include "cli/shard_record.h"
 #include "core/image_io.h"
+#include "core/large_pages.h"
 #include "methods/factory.h"
 #include "methods/ld/ld.h"
 #include "methods/render.h"
@@ -213,6 +214,7 @@ void runProgressive(const RenderFlags& flags, const PreparedScene& prepared, con
   }
   const auto snap = method->snapshot();
   bar.finish();
+  returnFreedMemory();  // the reconstruction's planes, kept for a next round that is not coming
 
   // A method without a reconstruction publishes its raw estimate as the reconstruction.
   writeOutput(flags, prepared, snap->reconstructed);

@@ -57,6 +57,13 @@ std::string readFile(const std::filesystem::path& path) {
   return text.str();
 }
 
+std::string writeOutput(const std::string& name, const std::string& contents) {
+  const std::string path = outputPath(name);
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << contents;
+  return path;
+}
+
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
   std::stringstream in(text);

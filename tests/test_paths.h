@@ -41,6 +41,9 @@ std::filesystem::path freshFolder(const std::string& prefix);
 
 // A whole file's bytes ("" when it cannot be read), and a text's lines.
 std::string readFile(const std::filesystem::path& path);
+// Writes a file under the build's test output dir (outputPath), its folders included; returns
+// its path.
+std::string writeOutput(const std::string& name, const std::string& contents);
 std::vector<std::string> lines(const std::string& text);
 
 // Mean squared error of an image against a clean one, over pixels and channels.

@@ -1,13 +1,12 @@
 // An allocator for the large per-pixel arrays (the film, the reconstruction's planes): blocks
 // of 2 MiB or more are mapped on their own, aligned to 2 MiB and advised as transparent huge
-// pages (madvise(MADV_HUGEPAGE), where the kernel
-// allows them), so that filling a new array takes one page fault per 2 MiB instead of one per
-// 4 KiB. A 1280x720 film is 160 MB: about 40,000 faults, a tenth of a second on two cores, at
-// every camera move, without it. Smaller blocks, and kernels without huge pages, get plain
-// memory. The values are unchanged; only their pages differ.
+// pages (madvise(MADV_HUGEPAGE), where the kernel allows them), so that filling a new array
+// takes one page fault per 2 MiB instead of one per 4 KiB. A 1280x720 film is 160 MB: about
+// 40,000 faults, a tenth of a second on two cores, at every camera move, without it. A freed
+// block is kept for the next array of its size, within the peak of the blocks in use (see
+// giveLargeBlock). Smaller blocks, and kernels without huge pages, get plain memory. The values
+// are unchanged; only their pages differ.
 #pragma once
-
-#include <sys/mman.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -18,6 +17,24 @@
 namespace penumbra {
 
 inline constexpr size_t kLargePageBytes = size_t(2) << 20;
+
+// A block of `bytes` (a multiple of kLargePageBytes), aligned to 2 MiB and advised as huge
+// pages: one freed earlier of the same size (giveLargeBlock) if one is kept, else a new mapping.
+// Throws std::bad_alloc.
+void* takeLargeBlock(size_t bytes);
+// Frees a block from takeLargeBlock. It is kept for reuse while the blocks in use and the kept
+// ones together stay within the most in use at once since the last returnFreedMemory: the
+// reconstruction makes and frees the same planes every round, and a new mapping costs the
+// kernel's clearing of every page (17% of a 1280x720 reconstruction's cycles). Kept blocks
+// never raise the peak of mapped blocks above that of the blocks in use.
+void giveLargeBlock(void* block, size_t bytes);
+
+// The bytes of large blocks kept for reuse, in use, and the most in use at once since the last
+// returnFreedMemory (for tests and reports).
+struct LargeBlockBytes {
+  size_t kept = 0, inUse = 0, mostInUse = 0;
+};
+LargeBlockBytes largeBlockBytes();
 
 template <typename T>
 struct LargePageAllocator {
@@ -37,30 +54,14 @@ struct LargePageAllocator {
       if (void* p = std::malloc(bytes > 0 ? bytes : 1)) return static_cast<T*>(p);
       throw std::bad_alloc();
     }
-    // Mapped directly rather than taken from malloc's heap, so that freeing a block gives its
-    // pages back at once: a reconstruction makes and frees its planes band after band, and
-    // huge pages kept in the heap between them raised a 1920x1080 reconstruction's peak by
-    // 200 bytes per pixel. The mapping is 2 MiB larger than the block, then cut to a block
-    // aligned to 2 MiB (the kernel backs only aligned 2 MiB ranges with huge pages).
-    const size_t rounded = roundedBytes(bytes);
-    void* mapped = mmap(nullptr, rounded + kLargePageBytes, PROT_READ | PROT_WRITE,
-                        MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (mapped == MAP_FAILED) throw std::bad_alloc();
-    const uintptr_t start = reinterpret_cast<uintptr_t>(mapped);
-    const uintptr_t aligned = (start + kLargePageBytes - 1) / kLargePageBytes * kLargePageBytes;
-    if (aligned > start) munmap(mapped, aligned - start);
-    if (const size_t tail = start + kLargePageBytes - aligned; tail > 0)
-      munmap(reinterpret_cast<void*>(aligned + rounded), tail);
-    void* p = reinterpret_cast<void*>(aligned);
-    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: a refusal leaves plain pages
-    return static_cast<T*>(p);
+    return static_cast<T*>(takeLargeBlock(roundedBytes(bytes)));
   }
   void deallocate(T* p, size_t n) {
     const size_t bytes = n * sizeof(T);
     if (bytes < kLargePageBytes)
       std::free(p);
     else
-      munmap(p, roundedBytes(bytes));
+      giveLargeBlock(p, roundedBytes(bytes));
   }
 
   template <typename U>
@@ -75,8 +76,9 @@ struct LargePageAllocator {
 template <typename T>
 using LargeVector = std::vector<T, LargePageAllocator<T>>;
 
-// Gives the memory freed inside malloc's heaps back to the system (malloc_trim): called once a
-// replaced method is freed, so that its pages do not stay resident beside its successor's.
+// Gives freed memory back to the system, the large blocks kept for reuse and what is free inside
+// malloc's heaps (malloc_trim): called once a replaced method is freed, so that its pages do not
+// stay resident beside its successor's, and when a render has no more work.
 void returnFreedMemory();
 
 }  // namespace penumbra

@@ -239,6 +239,14 @@ void RenderSession::takeInspection(Worker& w, std::unique_lock<std::mutex>& held
   }
 }
 
+void RenderSession::releaseWhileIdle(std::unique_lock<std::mutex>& lock) {
+  // The reconstruction's planes kept for its next round (core/large_pages.h) wait for a round
+  // that is not coming: give them back while the session has no work.
+  lock.unlock();
+  returnFreedMemory();
+  lock.lock();
+}
+
 void RenderSession::serveIdle(Worker& w, std::unique_lock<std::mutex>& lock) {
   if (w.method && w.methodGeneration != generation_) {
     // Cancelled (or replaced) while no round ran: nothing of it is published any more.
@@ -338,6 +346,7 @@ void RenderSession::worker() {
     if (stepsLeft_ == 0) {
       state_ = State::Paused;
       idle_.notify_all();
+      releaseWhileIdle(lock);
       continue;
     }
     const RoundRequest request{generation_, factory_,   inspectX_,
@@ -379,6 +388,7 @@ void RenderSession::worker() {
     if (r.finished) {
       state_ = State::Finished;
       idle_.notify_all();
+      releaseWhileIdle(lock);
     } else if (stepsLeft_ > 0) {
       --stepsLeft_;
     }

@@ -99,6 +99,8 @@ class RenderSession {
   // With the lock held (released while the method works): a paused or finished session
   // publishes the round the throttle skipped, and takes an inspection asked for.
   void serveIdle(Worker& worker, std::unique_lock<std::mutex>& lock);
+  // Gives the memory kept for the next round back while the session pauses or finishes.
+  static void releaseWhileIdle(std::unique_lock<std::mutex>& lock);
   // Makes `snapshot` the latest (mutex_ held) and tells the onPublish callback.
   void publishLocked(std::shared_ptr<const Snapshot> snapshot, uint64_t generation);
   void takeInspection(Worker& worker, std::unique_lock<std::mutex>& lock);

@@ -23,14 +23,6 @@
 namespace penumbra {
 namespace {
 
-std::string writeFile(const std::string& name, const std::string& contents) {
-  const std::string path = test::outputPath(name);
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  std::ofstream out(path, std::ios::binary);
-  out << contents;
-  return path;
-}
-
 using test::expectSceneError;
 
 // Builds binary PLY bodies value by value in a chosen byte order.
@@ -83,40 +75,40 @@ void expectQuadMesh(const Mesh& mesh, bool withNormalsAndUvs) {
 }
 
 TEST(PlyReader, AsciiWithIgnoredPropertiesAndElements) {
-  const std::string path = writeFile("ply/ascii_quad.ply",
-                                     "ply\r\n"
-                                     "format ascii 1.0\n"
-                                     "comment made by hand\n"
-                                     "obj_info nothing\n"
-                                     "element camera 1\n"
-                                     "property float view_px\n"
-                                     "property list uchar float stuff\n"
-                                     "element vertex 4\n"
-                                     "property float x\n"
-                                     "property float y\n"
-                                     "property float z\n"
-                                     "property uchar red\n"
-                                     "property float nx\n"
-                                     "property float ny\n"
-                                     "property float nz\n"
-                                     "property float s\n"
-                                     "property float t\n"
-                                     "element face 1\n"
-                                     "property uchar flags\n"
-                                     "property list uchar int vertex_indices\n"
-                                     "property list int double weights\n"
-                                     "element edge 2\n"
-                                     "property int vertex1\n"
-                                     "property int vertex2\n"
-                                     "end_header\n"
-                                     "1.5 3 7 8 9\n"
-                                     "0 0 0 255 0 2 0 0 0\n"
-                                     "1 0 0 12 0 1 0 1 0\n"
-                                     "1 0 -1 3 0 1 0 1 1\n"
-                                     "0 0 -1 4 0 1 0 0 1\n"
-                                     "7 4 0 1 2 3 2 0.5 -1e3\n"
-                                     "0 1\n"
-                                     "1 2");  // no final newline
+  const std::string path = test::writeOutput("ply/ascii_quad.ply",
+                                             "ply\r\n"
+                                             "format ascii 1.0\n"
+                                             "comment made by hand\n"
+                                             "obj_info nothing\n"
+                                             "element camera 1\n"
+                                             "property float view_px\n"
+                                             "property list uchar float stuff\n"
+                                             "element vertex 4\n"
+                                             "property float x\n"
+                                             "property float y\n"
+                                             "property float z\n"
+                                             "property uchar red\n"
+                                             "property float nx\n"
+                                             "property float ny\n"
+                                             "property float nz\n"
+                                             "property float s\n"
+                                             "property float t\n"
+                                             "element face 1\n"
+                                             "property uchar flags\n"
+                                             "property list uchar int vertex_indices\n"
+                                             "property list int double weights\n"
+                                             "element edge 2\n"
+                                             "property int vertex1\n"
+                                             "property int vertex2\n"
+                                             "end_header\n"
+                                             "1.5 3 7 8 9\n"
+                                             "0 0 0 255 0 2 0 0 0\n"
+                                             "1 0 0 12 0 1 0 1 0\n"
+                                             "1 0 -1 3 0 1 0 1 1\n"
+                                             "0 0 -1 4 0 1 0 0 1\n"
+                                             "7 4 0 1 2 3 2 0.5 -1e3\n"
+                                             "0 1\n"
+                                             "1 2");  // no final newline
   const Mesh mesh = loadPly(path);
   expectQuadMesh(mesh, true);
   EXPECT_EQ(mesh.name, "ascii_quad");
@@ -161,9 +153,9 @@ std::string binaryBody(bool bigEndian) {
 }
 
 TEST(PlyReader, BinaryLittleEndian) {
-  const std::string path =
-      writeFile("ply/le_quad.ply", binaryHeader("binary_little_endian", "float", "uchar", "int") +
-                                       binaryBody<float, uint8_t, int32_t>(false));
+  const std::string path = test::writeOutput(
+      "ply/le_quad.ply", binaryHeader("binary_little_endian", "float", "uchar", "int") +
+                             binaryBody<float, uint8_t, int32_t>(false));
   const Mesh mesh = loadPly(path);
   expectQuadMesh(mesh, false);
   EXPECT_TRUE(mesh.normals.empty());
@@ -172,9 +164,9 @@ TEST(PlyReader, BinaryLittleEndian) {
 }
 
 TEST(PlyReader, BinaryBigEndian) {
-  const std::string path =
-      writeFile("ply/be_quad.ply", binaryHeader("binary_big_endian", "double", "int", "uint") +
-                                       binaryBody<double, int32_t, uint32_t>(true));
+  const std::string path = test::writeOutput(
+      "ply/be_quad.ply", binaryHeader("binary_big_endian", "double", "int", "uint") +
+                             binaryBody<double, int32_t, uint32_t>(true));
   const Mesh mesh = loadPly(path);
   expectQuadMesh(mesh, false);
   ASSERT_EQ(mesh.uvs.size(), 4u);
@@ -182,26 +174,28 @@ TEST(PlyReader, BinaryBigEndian) {
 }
 
 TEST(PlyReader, ZeroNormalsAreRebuiltFromFaces) {
-  const std::string path = writeFile("ply/zero_normal.ply",
-                                     "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                     "property float x\nproperty float y\nproperty float z\n"
-                                     "property float nx\nproperty float ny\nproperty float nz\n"
-                                     "element face 1\nproperty list uchar uint vertex_indices\n"
-                                     "end_header\n"
-                                     "0 0 0 0 0 0\n1 0 0 0 0 2\n0 1 0 0 0 1\n3 0 1 2\n");
+  const std::string path =
+      test::writeOutput("ply/zero_normal.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 3\n"
+                        "property float x\nproperty float y\nproperty float z\n"
+                        "property float nx\nproperty float ny\nproperty float nz\n"
+                        "element face 1\nproperty list uchar uint vertex_indices\n"
+                        "end_header\n"
+                        "0 0 0 0 0 0\n1 0 0 0 0 2\n0 1 0 0 0 1\n3 0 1 2\n");
   const Mesh mesh = loadPly(path);
   ASSERT_EQ(mesh.normals.size(), 3u);
   for (const vec3& n : mesh.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
 }
 
 TEST(PlyReader, HalfAUvPairIsIgnored) {
-  const std::string path = writeFile("ply/only_s.ply",
-                                     "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                     "property float x\nproperty float y\nproperty float z\n"
-                                     "property float s\n"
-                                     "element face 1\nproperty list uchar uint vertex_indices\n"
-                                     "end_header\n"
-                                     "0 0 0 5\n1 0 0 5\n0 1 0 5\n3 0 1 2\n");
+  const std::string path =
+      test::writeOutput("ply/only_s.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 3\n"
+                        "property float x\nproperty float y\nproperty float z\n"
+                        "property float s\n"
+                        "element face 1\nproperty list uchar uint vertex_indices\n"
+                        "end_header\n"
+                        "0 0 0 5\n1 0 0 5\n0 1 0 5\n3 0 1 2\n");
   const Mesh mesh = loadPly(path);
   EXPECT_TRUE(mesh.uvs.empty());
   EXPECT_TRUE(mesh.normals.empty());
@@ -213,22 +207,23 @@ const char* kAsciiVertexHeader =
     "property float x\nproperty float y\nproperty float z\n";
 
 TEST(PlyReader, UnknownTypeNamesFileAndLine) {
-  const std::string path = writeFile("ply/bad_type.ply", std::string(kAsciiVertexHeader) +
-                                                             "property flaot w\n"
-                                                             "element face 0\nend_header\n");
+  const std::string path =
+      test::writeOutput("ply/bad_type.ply", std::string(kAsciiVertexHeader) +
+                                                "property flaot w\n"
+                                                "element face 0\nend_header\n");
   expectSceneError([&] { loadPly(path); },
                    {"bad_type.ply", "line 7", "unknown property type 'flaot'"});
 }
 
 TEST(PlyReader, IndexOutOfRange) {
-  const std::string path =
-      writeFile("ply/bad_index.ply", std::string(kAsciiVertexHeader) +
-                                         "element face 2\nproperty list uchar int vertex_indices\n"
-                                         "end_header\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n"
-                                         "3 0 1 2\n3 0 2 900\n");
+  const std::string path = test::writeOutput(
+      "ply/bad_index.ply", std::string(kAsciiVertexHeader) +
+                               "element face 2\nproperty list uchar int vertex_indices\n"
+                               "end_header\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n"
+                               "3 0 1 2\n3 0 2 900\n");
   expectSceneError([&] { loadPly(path); },
                    {"bad_index.ply", "face 1: vertex index 900 out of range (4 vertices)"});
-  const std::string negative = writeFile(
+  const std::string negative = test::writeOutput(
       "ply/negative_index.ply", std::string(kAsciiVertexHeader) +
                                     "element face 1\nproperty list uchar int vertex_indices\n"
                                     "end_header\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n3 0 -1 2\n");
@@ -238,7 +233,7 @@ TEST(PlyReader, IndexOutOfRange) {
 TEST(PlyReader, TruncatedBinary) {
   std::string body = binaryBody<float, uint8_t, int32_t>(false);
   body.resize(body.size() - 12);  // cuts into the face list
-  const std::string path = writeFile(
+  const std::string path = test::writeOutput(
       "ply/truncated.ply", binaryHeader("binary_little_endian", "float", "uchar", "int") + body);
   expectSceneError([&] { loadPly(path); },
                    {"truncated.ply", "truncated binary data in element 'face'"});
@@ -249,55 +244,56 @@ TEST(PlyReader, HugeListLengthIsTruncationNotAllocation) {
   for (int i = 0; i < 12; ++i) bytes.add(float(i));
   bytes.add(uint32_t(0xFFFFFFFFu), int32_t(0));
   const std::string path =
-      writeFile("ply/huge_list.ply",
-                "ply\nformat binary_little_endian 1.0\nelement vertex 4\n"
-                "property float x\nproperty float y\nproperty float z\n"
-                "element face 1\nproperty list uint int vertex_indices\nend_header\n" +
-                    bytes.str());
+      test::writeOutput("ply/huge_list.ply",
+                        "ply\nformat binary_little_endian 1.0\nelement vertex 4\n"
+                        "property float x\nproperty float y\nproperty float z\n"
+                        "element face 1\nproperty list uint int vertex_indices\nend_header\n" +
+                            bytes.str());
   expectSceneError([&] { loadPly(path); }, {"huge_list.ply", "truncated binary data"});
 }
 
 TEST(PlyReader, HugeHeaderCountIsRejectedUpFront) {
-  const std::string path =
-      writeFile("ply/huge_count.ply",
-                "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
-                "property float x\nproperty float y\nproperty float z\n"
-                "element face 18446744073709551615\nproperty list uchar int vertex_indices\n"
-                "end_header\n" +
-                    std::string(48, '\0'));
+  const std::string path = test::writeOutput(
+      "ply/huge_count.ply",
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+      "property float x\nproperty float y\nproperty float z\n"
+      "element face 18446744073709551615\nproperty list uchar int vertex_indices\n"
+      "end_header\n" +
+          std::string(48, '\0'));
   expectSceneError([&] { loadPly(path); }, {"huge_count.ply", "element 'vertex'"});
-  const std::string ascii = writeFile("ply/huge_count_ascii.ply",
-                                      std::string(kAsciiVertexHeader) +
-                                          "element face 99999999999\n"
-                                          "property list uchar int vertex_indices\nend_header\n"
-                                          "0 0 0\n1 0 0\n1 0 1\n0 0 1\n3 0 1 2\n");
+  const std::string ascii = test::writeOutput(
+      "ply/huge_count_ascii.ply", std::string(kAsciiVertexHeader) +
+                                      "element face 99999999999\n"
+                                      "property list uchar int vertex_indices\nend_header\n"
+                                      "0 0 0\n1 0 0\n1 0 1\n0 0 1\n3 0 1 2\n");
   expectSceneError([&] { loadPly(ascii); }, {"huge_count_ascii.ply", "element 'face'"});
 }
 
 TEST(PlyReader, OtherMalformedFiles) {
-  const std::string notPly = writeFile("ply/not_ply.ply", "solid cube\nendsolid\n");
+  const std::string notPly = test::writeOutput("ply/not_ply.ply", "solid cube\nendsolid\n");
   expectSceneError([&] { loadPly(notPly); }, {"not_ply.ply", "not a PLY file"});
 
-  const std::string badNumber =
-      writeFile("ply/bad_number.ply", std::string(kAsciiVertexHeader) +
-                                          "element face 0\nproperty list uchar int vertex_indices\n"
-                                          "end_header\n0 0 0\n1 zero 0\n1 0 1\n0 0 1\n");
+  const std::string badNumber = test::writeOutput(
+      "ply/bad_number.ply", std::string(kAsciiVertexHeader) +
+                                "element face 0\nproperty list uchar int vertex_indices\n"
+                                "end_header\n0 0 0\n1 zero 0\n1 0 1\n0 0 1\n");
   expectSceneError([&] { loadPly(badNumber); }, {"bad_number.ply", "line 11", "'zero'"});
 
-  const std::string shortAscii = writeFile(
+  const std::string shortAscii = test::writeOutput(
       "ply/short_ascii.ply", std::string(kAsciiVertexHeader) +
                                  "element face 1\nproperty list uchar int vertex_indices\n"
                                  "end_header\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n3 0 1\n");
   expectSceneError([&] { loadPly(shortAscii); }, {"short_ascii.ply", "element 'face'"});
 
-  const std::string noHeaderEnd = writeFile("ply/no_end.ply", kAsciiVertexHeader);
+  const std::string noHeaderEnd = test::writeOutput("ply/no_end.ply", kAsciiVertexHeader);
   expectSceneError([&] { loadPly(noHeaderEnd); }, {"no_end.ply", "end_header"});
 
-  const std::string noZ = writeFile("ply/no_z.ply",
-                                    "ply\nformat ascii 1.0\nelement vertex 1\n"
-                                    "property float x\nproperty float y\n"
-                                    "element face 0\nproperty list uchar int vertex_indices\n"
-                                    "end_header\n0 0\n");
+  const std::string noZ =
+      test::writeOutput("ply/no_z.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 1\n"
+                        "property float x\nproperty float y\n"
+                        "element face 0\nproperty list uchar int vertex_indices\n"
+                        "end_header\n0 0\n");
   expectSceneError([&] { loadPly(noZ); }, {"no_z.ply", "'z'"});
 
   expectSceneError([] { loadPly(test::outputPath("ply/does_not_exist.ply")); },
@@ -333,8 +329,8 @@ std::string testObjFolder() {
 }
 
 ObjData loadTestObj() {
-  writeFile(testObjFolder() + "/scene.mtl", kMtl);
-  return loadObj(writeFile(testObjFolder() + "/scene.obj", kObj));
+  test::writeOutput(testObjFolder() + "/scene.mtl", kMtl);
+  return loadObj(test::writeOutput(testObjFolder() + "/scene.obj", kObj));
 }
 
 uint32_t materialIndex(const ObjData& data, const std::string& name) {
@@ -429,9 +425,9 @@ TEST(ObjReader, BuildsDeindexedMeshKeepingWinding) {
 }
 
 TEST(ObjReader, MissingMtlFallsBackToDefaultMaterial) {
-  const std::string path = writeFile("obj/no_mtl.obj",
-                                     "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
-                                     "usemtl ghost\nf 1 2 3\n");
+  const std::string path = test::writeOutput("obj/no_mtl.obj",
+                                             "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                             "usemtl ghost\nf 1 2 3\n");
   const ObjData data = loadObj(path);
   ASSERT_EQ(data.materials.size(), 1u);
   EXPECT_EQ(data.materials[0].name, "default");
@@ -452,14 +448,15 @@ TEST(ObjReader, Errors) {
   expectSceneError([] { loadObj(test::outputPath("obj/x.obj")); }, {"x.obj", "cannot open file"});
 
   const std::string badIndex =
-      writeFile("obj/bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+      test::writeOutput("obj/bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
   expectSceneError([&] { loadObj(badIndex); }, {"bad_index.obj", "out of bounds"});
 
-  const std::string beforeStart =
-      writeFile("obj/before_start.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -9\nf -9 -1 -2 -3\n");
+  const std::string beforeStart = test::writeOutput(
+      "obj/before_start.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -9\nf -9 -1 -2 -3\n");
   expectSceneError([&] { loadObj(beforeStart); }, {"before_start.obj"});
 
-  const std::string zeroIndex = writeFile("obj/zero_index.obj", "v 0 0 0\nv 1 0 0\nf 0 1 2\n");
+  const std::string zeroIndex =
+      test::writeOutput("obj/zero_index.obj", "v 0 0 0\nv 1 0 0\nf 0 1 2\n");
   expectSceneError([&] { loadObj(zeroIndex); }, {"zero_index.obj"});
 }
 

@@ -103,26 +103,19 @@ TEST(ObjCheck, MtlNumbers) {
   expectMtlError("newmtl\n", {"'newmtl' needs a material name"});
 }
 
-std::string writeFile(const std::string& name, const std::string& contents) {
-  const std::string path = test::outputPath(name);
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  std::ofstream(path, std::ios::binary) << contents;
-  return path;
-}
-
 TEST(ObjCheck, LoadObjChecksTheObjAndItsMtl) {
   const std::string badVertex =
-      writeFile("obj_check/bad_vertex.obj", "v 0 0 0\nv 0 zero 0\nv 1 0 0\nf 1 2 3\n");
+      test::writeOutput("obj_check/bad_vertex.obj", "v 0 0 0\nv 0 zero 0\nv 1 0 0\nf 1 2 3\n");
   expectSceneError([&] { loadObj(badVertex); }, {"bad_vertex.obj:2:", "'v' y", "'zero'"});
 
-  writeFile("obj_check/bad.mtl", "newmtl red\nKd 1 0 0\nNs ten\n");
-  const std::string badMtl = writeFile(
+  test::writeOutput("obj_check/bad.mtl", "newmtl red\nKd 1 0 0\nNs ten\n");
+  const std::string badMtl = test::writeOutput(
       "obj_check/bad_mtl.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
   expectSceneError([&] { loadObj(badMtl); }, {"bad.mtl:3:", "'Ns'", "'ten'"});
 
   // A good file still loads, and a missing library still falls back to the default.
-  const std::string good =
-      writeFile("obj_check/good.obj", "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string good = test::writeOutput(
+      "obj_check/good.obj", "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(loadObj(good).mesh.indices.size(), 3u);
 }
 
