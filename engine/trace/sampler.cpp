@@ -25,6 +25,9 @@ void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t st
     cachedCount_ = 0;
   }
   sampleIndex_ = sampleIndex;
+  // What every dimension's shuffle of this sample shares (shuffledIndex).
+  blockKey_ = mixBits32(sampleIndex & ~(setSize_ - 1));
+  reversedLocal_ = reverseBits(sampleIndex & (setSize_ - 1));
   dimension_ = kFirstIntegratorDim;
   peekedDimension_ = kNoPeek;
   // Each sample gets a state hashed from the pixel and its index: PCG streams that share a
@@ -36,7 +39,9 @@ void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t st
 
 PixelSampler::DimensionKeys PixelSampler::keysFor(uint32_t dimension) const {
   const uint64_t h = hashValues(pixelKey_, dimension);
-  return {uint32_t(h), uint32_t(h >> 32), uint32_t(mixBits(h))};
+  const uint32_t shuffle = uint32_t(h);
+  return {shuffle, uint32_t(h >> 32), uint32_t(mixBits(h)),
+          order_ == BlockOrder::Shuffled ? permuteKeys(shuffle) : PermuteKeys{}};
 }
 
 const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
@@ -50,10 +55,12 @@ const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
 
 uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
   const uint32_t block = sampleIndex_ & ~(setSize_ - 1);
-  const uint32_t key = block ? mixBits32(k.shuffle ^ mixBits32(block)) : k.shuffle;
+  const uint32_t key = block ? mixBits32(k.shuffle ^ blockKey_) : k.shuffle;
+  if (order_ == BlockOrder::Nested)  // nestedPermuteIndex(local, setSize_, key)
+    return block | (reverseBits(laineKarrasHash(reversedLocal_, key)) & (setSize_ - 1));
   const uint32_t local = sampleIndex_ & (setSize_ - 1);
-  return block | (order_ == BlockOrder::Nested ? nestedPermuteIndex(local, setSize_, key)
-                                               : permuteIndex(local, setSize_, key));
+  return block |
+         (block ? permuteIndex(local, setSize_, key) : permuteIndex(local, setSize_, k.firstBlock));
 }
 
 CameraSample PixelSampler::cameraSample(bool needLens, bool needTime) {

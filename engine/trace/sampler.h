@@ -46,12 +46,40 @@ inline float vanDerCorput(uint32_t index, uint32_t scramble) {
 }
 
 // The generator matrix of Sobol's second dimension applied to index, xored with scramble: the
-// fraction's bits, most significant first.
-inline uint32_t sobol2Bits(uint32_t index, uint32_t scramble) {
-  // Branch-free: the bits of a shuffled index are random, so a branch per bit mispredicts.
+// fraction's bits, most significant first. Column c of the matrix is v_c, with v_0 = 2^31 and
+// v_c = v_(c-1) xor v_(c-1) >> 1; the product is a xor of the columns of the index's set bits.
+inline uint32_t sobol2BitsByColumns(uint32_t index, uint32_t scramble) {
   for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
     scramble ^= (0u - (index & 1u)) & v;
   return scramble;
+}
+
+// The same product a byte of the index at a time: entry [k][b] is the xor of the columns of
+// byte k's set bits when that byte is b. Four loads from a 4 KiB table replace a loop of one
+// step per bit whose steps depend on each other (an LD sampler computes one per dimension).
+struct Sobol2Table {
+  uint32_t columns[4][256];
+};
+inline constexpr Sobol2Table kSobol2Table = [] {
+  Sobol2Table t{};
+  uint32_t v = 1u << 31;
+  for (int k = 0; k < 4; ++k) {
+    uint32_t byteColumns[8];
+    for (int bit = 0; bit < 8; ++bit, v ^= v >> 1) byteColumns[bit] = v;
+    for (uint32_t b = 0; b < 256; ++b) {
+      uint32_t x = 0;
+      for (int bit = 0; bit < 8; ++bit)
+        if (b >> bit & 1u) x ^= byteColumns[bit];
+      t.columns[k][b] = x;
+    }
+  }
+  return t;
+}();
+
+inline uint32_t sobol2Bits(uint32_t index, uint32_t scramble) {
+  const auto& c = kSobol2Table.columns;
+  return scramble ^ c[0][index & 255u] ^ c[1][index >> 8 & 255u] ^ c[2][index >> 16 & 255u] ^
+         c[3][index >> 24];
 }
 
 inline float sobol2(uint32_t index, uint32_t scramble) {
@@ -89,19 +117,32 @@ inline float owenVanDerCorput(uint32_t index, uint32_t seed) {
 // bits, so that every output bit depends on every input bit; three rounds with fresh keys.
 // (Shifts fixed at a few bits, as a 32-bit hash would use, leave the low output bits a
 // function of the low input bits once n is large, which correlates the dimensions of a pixel.)
-inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+// The keys of permuteIndex's three rounds, from its key.
+struct PermuteKeys {
+  uint32_t round[3];
+};
+inline PermuteKeys permuteKeys(uint32_t key) {
+  PermuteKeys k;
+  for (int r = 0; r < 3; ++r, key = mixBits32(key + 0x9e3779b9u)) k.round[r] = key;
+  return k;
+}
+
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, const PermuteKeys& keys) {
   if (n <= 1) return 0;
   const uint32_t mask = n - 1;
   const int bits = __builtin_ctz(n);
   const int half = (bits + 1) / 2, third = bits / 3 > 0 ? bits / 3 : 1;
-  for (int round = 0; round < 3; ++round) {
+  for (uint32_t key : keys.round) {
     i = ((i ^ key) * ((key >> 8) | 1u)) & mask;
     i ^= i >> half;
     i = (i * 0x2c1b3c6du) & mask;
     i ^= i >> third;
-    key = mixBits32(key + 0x9e3779b9u);
   }
   return i;
+}
+
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
+  return permuteIndex(i, n, permuteKeys(key));
 }
 
 // A nested random permutation of [0, n) for n a power of two, chosen by `key`: bit b of the
@@ -166,6 +207,7 @@ class PixelSampler {
   // Per (pixel, dimension): the shuffle key and the scrambles of the two coordinates.
   struct DimensionKeys {
     uint32_t shuffle, scrambleX, scrambleY;
+    PermuteKeys firstBlock;  // permuteKeys(shuffle): the shuffle of the first block's samples
   };
   static constexpr uint32_t kCachedDimensions = 64;
   DimensionKeys keysFor(uint32_t dimension) const;
@@ -180,6 +222,8 @@ class PixelSampler {
   uint32_t setSize_;
   uint64_t pixelKey_ = 0;
   uint32_t sampleIndex_ = 0;
+  // Of the sample index: the hash of its block and its reversed place in the block.
+  uint32_t blockKey_ = 0, reversedLocal_ = 0;
   uint32_t dimension_ = 0;
   // The last peeked 2D value and its dimension (kNoPeek: none), which next2D hands out
   // rather than computing it twice; valid for the current sample only.
