@@ -158,6 +158,15 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
                      const RayDifferentials* differentials, const CameraFrame* approximateFrom) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
+  // The hit's vertices are read at random (a cache miss each on a large mesh): ask for the
+  // normals, uvs and material together with the positions rather than one after the other.
+  if (mesh.timeSteps <= 1) {
+    for (int k = 0; k < 3; ++k) {
+      if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[idx[k]]);
+      if (!mesh.uvs.empty()) __builtin_prefetch(&mesh.uvs[idx[k]]);
+    }
+    __builtin_prefetch(&mesh.materialIds[hit.primId]);
+  }
   vec3 p0, p1, p2;
   trianglePositions(mesh, hit.primId, time, p0, p1, p2);
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
