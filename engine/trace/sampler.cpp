@@ -56,8 +56,8 @@ const PixelSampler::DimensionKeys& PixelSampler::keys(uint32_t dimension) {
 uint32_t PixelSampler::shuffledIndex(const DimensionKeys& k) const {
   const uint32_t block = sampleIndex_ & ~(setSize_ - 1);
   const uint32_t key = block ? mixBits32(k.shuffle ^ blockKey_) : k.shuffle;
-  if (order_ == BlockOrder::Nested)  // nestedPermuteIndex(local, setSize_, key)
-    return block | (reverseBits(laineKarrasHash(reversedLocal_, key)) & (setSize_ - 1));
+  if (order_ == BlockOrder::Nested)
+    return block | nestedPermuteReversedIndex(reversedLocal_, setSize_, key);
   const uint32_t local = sampleIndex_ & (setSize_ - 1);
   return block |
          (block ? permuteIndex(local, setSize_, key) : permuteIndex(local, setSize_, k.firstBlock));

@@ -153,9 +153,14 @@ inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
 // samples stratified. The hash works on the reversed bits, where each step (xor with an even
 // multiple, an added key, an odd multiple) flips a bit by the bits below it only (Laine and
 // Karras 2011, with Vegdahl's constants).
+// nestedPermuteIndex (below) of the index whose reversed bits are given, for n >= 1: a sampler
+// reverses a sample's place in its block once for all of its dimensions.
+inline uint32_t nestedPermuteReversedIndex(uint32_t reversedIndex, uint32_t n, uint32_t key) {
+  return reverseBits(laineKarrasHash(reversedIndex, key)) & (n - 1);  // owenScramble, masked
+}
+
 inline uint32_t nestedPermuteIndex(uint32_t i, uint32_t n, uint32_t key) {
-  if (n <= 1) return 0;
-  return owenScramble(i, key) & (n - 1);
+  return n <= 1 ? 0 : nestedPermuteReversedIndex(reverseBits(i), n, key);
 }
 
 uint32_t roundUpPowerOfTwo(uint32_t v);
