@@ -76,9 +76,14 @@ struct LargePageAllocator {
 template <typename T>
 using LargeVector = std::vector<T, LargePageAllocator<T>>;
 
-// Gives freed memory back to the system, the large blocks kept for reuse and what is free inside
-// malloc's heaps (malloc_trim): called once a replaced method is freed, so that its pages do not
-// stay resident beside its successor's, and when a render has no more work.
+// Gives what is free inside malloc's heaps back to the system (malloc_trim): called once a
+// replaced method is freed, so that its smaller vectors do not stay resident beside its
+// successor's. Its large blocks stay kept: the successor's film and planes take them.
+void trimMallocHeaps();
+
+// Gives all freed memory back to the system: the large blocks kept for reuse, then
+// trimMallocHeaps. Called when a render has no more work (a batch's last picture, a session
+// that pauses or finishes).
 void returnFreedMemory();
 
 }  // namespace penumbra

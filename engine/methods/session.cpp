@@ -216,12 +216,13 @@ struct RenderSession::Worker {
   // Frees the method (then the factory that owns what it refers to). Only the worker thread
   // touches the method, and only between rounds, when none of its tasks runs: a replaced
   // method goes at once, before its successor is made, so rapid restarts (a camera drag)
-  // never hold two methods' per-pixel state.
+  // never hold two methods' per-pixel state; its large blocks are kept for the successor's
+  // film and planes, which then need no fresh pages (core/large_pages.h).
   void drop() {
     if (!method && !activeFactory) return;
     method.reset();
     activeFactory = nullptr;
-    returnFreedMemory();
+    trimMallocHeaps();
   }
 };
 
