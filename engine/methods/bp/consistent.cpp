@@ -619,6 +619,7 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
       recon::DenoiseResult r = reconstructPicture(
           film_, config_.denoise, double(s_.spent) / double(s_.pixelCount), snap->final, cancel);
       s_.times.reconstruct += secondsSince(start);
+      if (cancel && cancel->load()) return snap;  // the method is being replaced: dropped
       lastReconstruction_ = std::move(r);
       reconstructedAtRound_ = s_.rounds;
     }

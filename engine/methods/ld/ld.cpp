@@ -95,6 +95,7 @@ void LdMethod::updatePixelErrors(const std::atomic<bool>* cancel) {
     const auto start = Clock::now();
     recon::DenoiseResult r = reconstructFilm(film_, config_.denoise, cancel);
     times_.reconstruct += secondsSince(start);
+    if (cancel && cancel->load()) return;  // the round's method is being replaced
     errorAtReconstruction_ = relativeError(r, film_);
     countAtReconstruction_.resize(pixelCount_);
     for (size_t p = 0; p < pixelCount_; ++p) countAtReconstruction_[p] = film_[p].count;
@@ -149,9 +150,11 @@ std::shared_ptr<Snapshot> LdMethod::snapshot(bool reconstructImage,
     const auto start = Clock::now();
     recon::DenoiseResult r =
         reconstructPicture(film_, config_.denoise, double(drawn_), snap->final, cancel);
-    if (snap->withMaps) addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
-    snap->reconstructed = std::move(r.output);
     times_.reconstruct += secondsSince(start);
+    if (!(cancel && cancel->load())) {  // (cancelled: the snapshot is dropped)
+      if (snap->withMaps) addReconstructionMaps(*snap, r, config_.denoise, relativeError(r, film_));
+      snap->reconstructed = std::move(r.output);
+    }
   }
   addFilmMaps(*snap, film_);
   std::vector<uint32_t> kept(pixelCount_);

@@ -336,6 +336,18 @@ int bandHalo(const DenoiseConfig& config) {
          config.patchRadius + 1;
 }
 
+// A result of width x height before any pixel is filtered: black, scale 0 (the identity), no
+// error, variance ratio 1.
+DenoiseResult sizedResult(int width, int height) {
+  const size_t count = size_t(width) * size_t(height);
+  DenoiseResult result;
+  result.output = Image(width, height);
+  result.scale.assign(count, 0);
+  result.mseEstimate.assign(count, 0.0f);
+  result.varianceRatio.assign(count, 1.0f);
+  return result;
+}
+
 // denoiseDetailed for the output rows [outFirst, outLast) of `in` (the result holds those rows
 // only): the bank is swept over them and sureSmoothRadius rows either side, whose SURE the
 // box reads; every row of `in` may be read as a neighbour. For a pixel whose rows out to
@@ -361,6 +373,11 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
     const detail::SweepConfig sweep{config.radii, config.k, config.noiseCancel, config.patchRadius,
                                     config.denseRadius};
     std::vector<detail::ScaleMaps> filtered = detail::sweepScales(domain, sweep, cancel);
+    // Cancelled: the sweep stopped part way, and what follows (the SURE maps' smoothing, the
+    // choice) would take tens of milliseconds at 1280x720 for nothing. The result keeps its
+    // size (denoise.h), its values those of a result just made.
+    if (cancel && cancel->load(std::memory_order_relaxed))
+      return sizedResult(in.width, outLast - outFirst);
     for (detail::ScaleMaps& maps : filtered) candidates.push_back(std::move(maps));
   }
   // The identity's SURE of the swept rows only.
@@ -388,11 +405,7 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
   const size_t count = size_t(outLast - outFirst) * width;
   const size_t skip = size_t(outFirst - sweepFirst) * width;  // output row 0 in the swept rows
   const size_t base = size_t(outFirst) * width;               // and in `in`
-  DenoiseResult result;
-  result.output = Image(in.width, outLast - outFirst);
-  result.scale.assign(count, 0);
-  result.mseEstimate.assign(count, 0.0f);
-  result.varianceRatio.assign(count, 1.0f);
+  DenoiseResult result = sizedResult(in.width, outLast - outFirst);
   forEachPixel(in.width, outLast - outFirst, [&](size_t o, int, int) {
     const size_t p = base + o, i = skip + o;
     // The least smoothed SURE wins; ties go to the narrower scale (the identity first).
@@ -474,12 +487,7 @@ DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config,
     throw std::invalid_argument("denoise: width " + std::to_string(width) + ", height " +
                                 std::to_string(height) + " or band rows " +
                                 std::to_string(bandRows) + " is < 1");
-  const size_t count = size_t(width) * size_t(height);
-  DenoiseResult result;
-  result.output = Image(width, height);
-  result.scale.assign(count, 0);
-  result.mseEstimate.assign(count, 0.0f);
-  result.varianceRatio.assign(count, 1.0f);
+  DenoiseResult result = sizedResult(width, height);
   const int halo = bandHalo(config);
   for (int y0 = 0; y0 < height; y0 += bandRows) {
     if (cancel && cancel->load(std::memory_order_relaxed)) break;
