@@ -200,7 +200,13 @@ vec3 EnvironmentLight::lookup(float u, float t) const {
   const float x = u * float(width_) - 0.5f, y = t * float(height_) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
-  const int x0 = ((int(fx) % width_) + width_) % width_, x1 = (x0 + 1) % width_;
+  // Wrapped into [0, width): the modulo's divisions only for columns past one turn (u in
+  // [0, 1] gives fx in [-1, width - 1]).
+  const int ix = int(fx);
+  const int x0 = ix >= 0 && ix < width_    ? ix
+                 : ix < 0 && ix >= -width_ ? ix + width_
+                                           : ((ix % width_) + width_) % width_;
+  const int x1 = x0 + 1 < width_ ? x0 + 1 : 0;
   const int y0 = std::clamp(int(fy), 0, height_ - 1), y1 = std::clamp(int(fy) + 1, 0, height_ - 1);
   const vec3 c = (1 - ty) * ((1 - tx) * m.at(x0, y0) + tx * m.at(x1, y0)) +
                  ty * ((1 - tx) * m.at(x0, y1) + tx * m.at(x1, y1));
