@@ -161,7 +161,8 @@ double drawWindowFrame(Window& host, double dt) {
   glfwSwapBuffers(host.window);
   const auto swapped = Clock::now();
   if (debugFrames)
-    std::fprintf(stderr, "draw %.1f finish %.1f swap %.1f ms\n", seconds(drawn - frameStart) * 1e3,
+    std::fprintf(stderr, "frame at %.3f s: draw %.1f finish %.1f swap %.1f ms\n",
+                 seconds(frameStart.time_since_epoch()), seconds(drawn - frameStart) * 1e3,
                  seconds(finished - drawn) * 1e3, seconds(swapped - finished) * 1e3);
   const double cost = seconds(swapped - frameStart);
   host.app->recordFrame(cost);
@@ -205,8 +206,13 @@ void frameLoop(Window& host, std::optional<InputScript>& script, const WindowReq
     }
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(host.window, &fw, &fh);
-    // Hover feedback in the panel needs frames for a moment after input.
-    const bool interacting = seconds(now - host.lastInput) < (unpaced ? 0.5 : 0.3);
+    // Hover feedback in the panel (its tooltips) needs frames for a moment after input. Over
+    // the image every input draws its own frame (it marks the window dirty) and nothing waits
+    // on a hover: frames there would only take the cores from a restart's first round (on
+    // llvmpipe one costs 30-50 ms of CPU at 1640x800).
+    const ImGuiIO& io = ImGui::GetIO();
+    const bool interacting = seconds(now - host.lastInput) < (unpaced ? 0.5 : 0.3) &&
+                             (unpaced || io.WantCaptureMouse || io.WantCaptureKeyboard);
     const bool rendering = app.session().state() == RenderSession::State::Running;
     const double pacing = request.continuous || unpaced ? 1.0 / 60
                           : pictureWaiting              ? 1.0 / 30
