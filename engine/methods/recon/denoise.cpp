@@ -402,7 +402,6 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
     if (!detail) LargeVector<float>().swap(maps.mse);
   }
 
-  const size_t count = size_t(outLast - outFirst) * width;
   const size_t skip = size_t(outFirst - sweepFirst) * width;  // output row 0 in the swept rows
   const size_t base = size_t(outFirst) * width;               // and in `in`
   DenoiseResult result = sizedResult(in.width, outLast - outFirst);
