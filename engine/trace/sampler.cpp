@@ -25,9 +25,11 @@ void PixelSampler::startSample(int px, int py, uint32_t sampleIndex, uint32_t st
     cachedCount_ = 0;
   }
   sampleIndex_ = sampleIndex;
-  // What every dimension's shuffle of this sample shares (shuffledIndex).
-  blockKey_ = mixBits32(sampleIndex & ~(setSize_ - 1));
-  reversedLocal_ = reverseBits(sampleIndex & (setSize_ - 1));
+  if (kind_ == SamplerKind::LowDiscrepancy) {
+    // What every dimension's shuffle of this sample shares (shuffledIndex).
+    blockKey_ = mixBits32(sampleIndex & ~(setSize_ - 1));
+    reversedLocal_ = reverseBits(sampleIndex & (setSize_ - 1));
+  }
   dimension_ = kFirstIntegratorDim;
   peekedDimension_ = kNoPeek;
   // Each sample gets a state hashed from the pixel and its index: PCG streams that share a

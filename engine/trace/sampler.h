@@ -112,11 +112,6 @@ inline float owenVanDerCorput(uint32_t index, uint32_t seed) {
   return toUnitFloat(reverseBits(laineKarrasHash(index, seed)));
 }
 
-// Bijection of [0, n) for n a power of two, chosen by `key`. Every step is invertible modulo
-// n = 2^b: xor with the key, multiply by an odd number, and xorshifts down by about b/2 and b/3
-// bits, so that every output bit depends on every input bit; three rounds with fresh keys.
-// (Shifts fixed at a few bits, as a 32-bit hash would use, leave the low output bits a
-// function of the low input bits once n is large, which correlates the dimensions of a pixel.)
 // The keys of permuteIndex's three rounds, from its key.
 struct PermuteKeys {
   uint32_t round[3];
@@ -127,6 +122,11 @@ inline PermuteKeys permuteKeys(uint32_t key) {
   return k;
 }
 
+// Bijection of [0, n) for n a power of two, chosen by `key`. Every step is invertible modulo
+// n = 2^b: xor with the key, multiply by an odd number, and xorshifts down by about b/2 and b/3
+// bits, so that every output bit depends on every input bit; three rounds with fresh keys.
+// (Shifts fixed at a few bits, as a 32-bit hash would use, leave the low output bits a
+// function of the low input bits once n is large, which correlates the dimensions of a pixel.)
 inline uint32_t permuteIndex(uint32_t i, uint32_t n, const PermuteKeys& keys) {
   if (n <= 1) return 0;
   const uint32_t mask = n - 1;
@@ -145,6 +145,12 @@ inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
   return permuteIndex(i, n, permuteKeys(key));
 }
 
+// nestedPermuteIndex (below) of the index whose reversed bits are given, for n >= 1: a sampler
+// reverses a sample's place in its block once for all of its dimensions.
+inline uint32_t nestedPermuteReversedIndex(uint32_t reversedIndex, uint32_t n, uint32_t key) {
+  return reverseBits(laineKarrasHash(reversedIndex, key)) & (n - 1);  // owenScramble, masked
+}
+
 // A nested random permutation of [0, n) for n a power of two, chosen by `key`: bit b of the
 // index is flipped by a hash of the bits above it (Owen's nested scrambling applied to the
 // index, the shuffle of Burley 2020, "Practical Hash-based Owen Scrambling"). It maps every
@@ -153,12 +159,6 @@ inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key) {
 // samples stratified. The hash works on the reversed bits, where each step (xor with an even
 // multiple, an added key, an odd multiple) flips a bit by the bits below it only (Laine and
 // Karras 2011, with Vegdahl's constants).
-// nestedPermuteIndex (below) of the index whose reversed bits are given, for n >= 1: a sampler
-// reverses a sample's place in its block once for all of its dimensions.
-inline uint32_t nestedPermuteReversedIndex(uint32_t reversedIndex, uint32_t n, uint32_t key) {
-  return reverseBits(laineKarrasHash(reversedIndex, key)) & (n - 1);  // owenScramble, masked
-}
-
 inline uint32_t nestedPermuteIndex(uint32_t i, uint32_t n, uint32_t key) {
   return n <= 1 ? 0 : nestedPermuteReversedIndex(reverseBits(i), n, key);
 }
