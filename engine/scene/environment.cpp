@@ -289,6 +289,19 @@ void EnvironmentLight::prefetch(glm::vec2 u) const {
   __builtin_prefetch(&map_->at(slot, down));
 }
 
+void EnvironmentLight::prefetchDirection(vec3 direction) const {
+  if (black() || constant()) return;
+  const glm::vec2 ut = directionToEquirect(toMap(direction));
+  const int j = std::clamp(int(ut.y * float(height_)), 0, height_ - 1);
+  const int i = std::clamp(int(ut.x * float(width_)), 0, width_ - 1);
+  __builtin_prefetch(&pdfs_[size_t(j) * size_t(width_) + size_t(i)]);
+  // The bilinear lookup reads this row and the one nearer the coordinates' side of it.
+  const int other =
+      std::clamp(ut.y * float(height_) - float(j) < 0.5f ? j - 1 : j + 1, 0, height_ - 1);
+  __builtin_prefetch(&map_->at(i, j));
+  __builtin_prefetch(&map_->at(i, other));
+}
+
 float EnvironmentLight::pdf(vec3 direction) const {
   if (constant()) return pdfs_.empty() ? 0.0f : pdfs_[0];
   return cellPdf(directionToEquirect(toMap(direction)));

@@ -82,6 +82,9 @@ class EnvironmentLight {
   // Asks the cache for what sample(u) will read (its alias entry and the map's texels there),
   // so that a caller can hide that memory latency behind other work. Changes nothing.
   void prefetch(glm::vec2 u) const;
+  // The same for what radiance(direction, &pdf) will read: the texel's pdf and the map's
+  // texels around it.
+  void prefetchDirection(vec3 direction) const;
   // The integral of the luminance over the sphere (strength applied): the light's weight.
   double integratedLuminance() const { return integral_; }
   bool black() const { return !(integral_ > 0); }

@@ -154,19 +154,43 @@ void applyNormalMap(const Scene& scene, const Material& material, vec3 dpdu, vec
 }
 }  // namespace
 
+void prefetchSurface(const Scene& scene, const Hit& hit) {
+  // The hit's vertices are read at random (a cache miss each on a large mesh): ask for the
+  // positions, normals, uvs and material together rather than one after the other.
+  const Mesh& mesh = scene.meshes[hit.meshId];
+  if (mesh.timeSteps > 1) return;
+  __builtin_prefetch(&mesh.materialIds[hit.primId]);
+  const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
+  for (int k = 0; k < 3; ++k) {
+    __builtin_prefetch(&mesh.positions[idx[k]]);
+    if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[idx[k]]);
+    if (!mesh.uvs.empty()) __builtin_prefetch(&mesh.uvs[idx[k]]);
+  }
+}
+
+namespace {
+// A vertex's shadow ray, traced after the ray that continues the path, while the data of that
+// ray's hit (its triangle's vertices, or the environment's texels) arrive in cache. Its
+// contribution joins the radiance at the same place in the sum as if traced at once.
+struct PendingShadow {
+  bool active = false;
+  Ray ray;
+  float tMax = 0;
+  vec3 contribution{0.0f};
+  void trace(const Accel& accel, PathCounters& counters, vec3& radiance) {
+    if (!active) return;
+    active = false;
+    ++counters.rays;
+    if (!accel.occluded(ray, 0.0f, tMax)) radiance += contribution;
+  }
+};
+}  // namespace
+
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
                      const RayDifferentials* differentials, const CameraFrame* approximateFrom) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
-  // The hit's vertices are read at random (a cache miss each on a large mesh): ask for the
-  // normals, uvs and material together with the positions rather than one after the other.
-  if (mesh.timeSteps <= 1) {
-    for (int k = 0; k < 3; ++k) {
-      if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[idx[k]]);
-      if (!mesh.uvs.empty()) __builtin_prefetch(&mesh.uvs[idx[k]]);
-    }
-    __builtin_prefetch(&mesh.materialIds[hit.primId]);
-  }
+  prefetchSurface(scene, hit);
   vec3 p0, p1, p2;
   trianglePositions(mesh, hit.primId, time, p0, p1, p2);
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
@@ -235,6 +259,8 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
 
   const EnvironmentLight* environment = prepared.lights.environment.get();
   if (environment && environment->constant()) environment = nullptr;  // nothing to prefetch
+  PendingShadow shadow;
+  auto traceShadow = [&] { shadow.trace(accel, counters, radiance); };
   for (int depth = 0;; ++depth) {
     // The environment's sampling tables are large and read at random: ask for what the next
     // event estimate at this ray's hit will read (its light point is the dimension after the
@@ -244,7 +270,15 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       environment->prefetch(uNextLightPoint);
     Hit hit;
     ++counters.rays;
-    if (!accel.intersect(ray, 0.0f, INFINITY, hit)) {
+    const bool found = accel.intersect(ray, 0.0f, INFINITY, hit);
+    if (shadow.active) {
+      if (found)
+        prefetchSurface(scene, hit);
+      else if (environment)
+        environment->prefetchDirection(ray.direction);
+      traceShadow();
+    }
+    if (!found) {
       // The environment, weighted against its own light sampling (a camera ray sees the
       // backdrop, which nothing light-samples).
       const bool weighted = depth > 0 && !specularBounce && prepared.lights.environment;
@@ -300,13 +334,12 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
         const vec3 wi = ls.wi;
         const vec3 f = evalBsdfCos(bsdf, wo, wi);
         if (f.x > 0 || f.y > 0 || f.z > 0) {
-          Ray shadow{offsetOrigin(surface.point, surface.geometricNormal, wi), wi, ray.time};
-          ++counters.rays;
-          if (!accel.occluded(shadow, 0.0f, ls.distance * (1.0f - 1e-3f))) {
-            // A punctual light cannot be hit by a BSDF sample: its sample takes all the weight.
-            const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
-            radiance += throughput * f * ls.radiance * (weight / ls.pdf);
-          }
+          shadow.active = true;
+          shadow.ray = Ray{offsetOrigin(surface.point, surface.geometricNormal, wi), wi, ray.time};
+          shadow.tMax = ls.distance * (1.0f - 1e-3f);
+          // A punctual light cannot be hit by a BSDF sample: its sample takes all the weight.
+          const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
+          shadow.contribution = throughput * f * ls.radiance * (weight / ls.pdf);
         }
       }
     } else {
@@ -337,6 +370,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       dimensions.skip(1);
     }
   }
+  traceShadow();  // the last vertex's, when the path ended there
   return radiance;
 }
 

@@ -80,6 +80,10 @@ struct SurfaceHit {
   UvFootprint footprint;  // uv across about one pixel; zero: textures' level 0
   uint32_t materialId = 0;
 };
+// Asks the cache for what surfaceAt(hit) will read: the triangle's vertices' positions,
+// normals and uvs and its material (static meshes). Waits only for the triangle's indices;
+// changes nothing. A caller with other work (a shadow ray) does it in between.
+void prefetchSurface(const Scene& scene, const Hit& hit);
 // With a camera ray's differentials, the hit's footprint for its texture lookups; without
 // them but with the camera, the footprint the camera would give the point
 // (approximateRayDifferentials); with neither, none.
