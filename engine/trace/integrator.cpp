@@ -246,8 +246,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   // (pbrt-v4's approximation): coarser levels for far hits, which are smoother and stay in
   // cache, where level 0 read at random missed it at every lookup.
   const bool footprints = !scene.images.empty();
-  const RayDifferentials differentials =
-      footprints ? cameraRayDifferentials(prepared.camera, sample) : RayDifferentials{};
+  RayDifferentials differentials;  // the camera ray's, made while its hit's data arrive
   vec3 radiance(0.0f), throughput(1.0f);
   bool specularBounce = false;
   float previousBsdfPdf = 0;
@@ -271,13 +270,13 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     Hit hit;
     ++counters.rays;
     const bool found = accel.intersect(ray, 0.0f, INFINITY, hit);
-    if (shadow.active) {
-      if (found)
-        prefetchSurface(scene, hit);
-      else if (environment)
-        environment->prefetchDirection(ray.direction);
-      traceShadow();
-    }
+    if (found)
+      prefetchSurface(scene, hit);
+    else if (environment && shadow.active)
+      environment->prefetchDirection(ray.direction);
+    if (depth == 0 && found && footprints)
+      differentials = cameraRayDifferentials(prepared.camera, sample);
+    traceShadow();
     if (!found) {
       // The environment, weighted against its own light sampling (a camera ray sees the
       // backdrop, which nothing light-samples).
