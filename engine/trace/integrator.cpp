@@ -263,17 +263,23 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
   for (int depth = 0;; ++depth) {
     // The environment's sampling tables are large and read at random: ask for what the next
     // event estimate at this ray's hit will read (its light point is the dimension after the
-    // light choice) while Embree traces the ray.
+    // light choice) while Embree traces the ray; for a camera ray, of which many escape, only
+    // once it hit something, while that hit's data arrive.
     glm::vec2 uNextLightPoint;
-    if (environment && dimensions.peek2D(1, uNextLightPoint, Scrambling::Owen))
-      environment->prefetch(uNextLightPoint);
+    auto prefetchNextEvent = [&] {
+      if (environment && dimensions.peek2D(1, uNextLightPoint, Scrambling::Owen))
+        environment->prefetch(uNextLightPoint);
+    };
+    if (depth > 0) prefetchNextEvent();
     Hit hit;
     ++counters.rays;
     const bool found = accel.intersect(ray, 0.0f, INFINITY, hit);
-    if (found)
+    if (found) {
       prefetchSurface(scene, hit);
-    else if (environment && shadow.active)
+      if (depth == 0) prefetchNextEvent();
+    } else if (environment && shadow.active) {
       environment->prefetchDirection(ray.direction);
+    }
     if (depth == 0 && found && footprints)
       differentials = cameraRayDifferentials(prepared.camera, sample);
     traceShadow();
