@@ -4,6 +4,8 @@
 
 #include "scene/textures.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -20,6 +22,31 @@ float triangleArea(vec3 p0, vec3 p1, vec3 p2) {
 // choice weight uses it, the radiance itself is the texture's at the sampled point.
 float meanTextureLuminance(const Scene& scene, int texture) {
   return texture < 0 ? 1.0f : textureMeanLuminance(scene, scene.textures[size_t(texture)]);
+}
+
+// The share of an emission texture's mean that every triangle of its material keeps in its
+// light-sampling weight, whatever its own part of the texture: a bright detail that the
+// triangle's estimate below misses still gets next-event samples, not only BSDF hits.
+constexpr float kEmissionWeightFloor = 0.01f;
+
+// The luminance of a textured emitter's texture over one triangle, for its light-sampling
+// weight: the mean of its four half-size sub-triangles' (midpoint subdivision) means, each a
+// lookup at the sub-triangle's centroid at the mip level whose texels span its uv edges, so a
+// bright patch anywhere inside counts. Floored at kEmissionWeightFloor of the texture's mean.
+// A mesh without uvs emits the texture at uv (0, 0) everywhere (sampleLight): its weight too.
+float triangleEmissionLuminance(const Scene& scene, const Mesh& mesh, uint32_t triangle,
+                                const Texture& texture, float textureMean) {
+  if (mesh.uvs.empty()) return luminance(evalTexture(scene, texture, glm::vec2(0.0f)));
+  const uint32_t* idx = &mesh.indices[3 * size_t(triangle)];
+  const glm::vec2 a = mesh.uvs[idx[0]], b = mesh.uvs[idx[1]], c = mesh.uvs[idx[2]];
+  const UvFootprint halfEdges{0.5f * (b - a), 0.5f * (c - a)};
+  constexpr float kFar = 2.0f / 3.0f, kNear = 1.0f / 6.0f, kMid = 1.0f / 3.0f;
+  float sum = 0.0f;
+  for (const glm::vec3 w : {glm::vec3(kFar, kNear, kNear), glm::vec3(kNear, kFar, kNear),
+                            glm::vec3(kNear, kNear, kFar), glm::vec3(kMid)})
+    sum += luminance(evalTexture(scene, texture, w.x * a + w.y * b + w.z * c, halfEdges));
+  const float mean = 0.25f * sum;
+  return std::isfinite(mean) ? std::max(mean, kEmissionWeightFloor * textureMean) : textureMean;
 }
 
 // A punctual light's power over pi, in the units of a triangle's area x luminance.
@@ -87,18 +114,33 @@ LightSampler buildLightSampler(const Scene& scene) {
   std::vector<double> weights;
   double sum = 0;
   std::vector<float> textureMean(scene.materials.size(), -1.0f);
+  for (size_t id = 0; id < scene.materials.size(); ++id)
+    if (scene.materials[id].isEmissive())
+      textureMean[id] = meanTextureLuminance(scene, scene.materials[id].emissionTexture);
+  std::vector<double> triangleWeight;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
+    // Each emitting triangle's weight, area times emitted luminance: in parallel, as a textured
+    // emitter's reads its texture.
+    triangleWeight.assign(mesh.triangleCount(), 0.0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(mesh.triangleCount()), 1024),
+                      [&](const tbb::blocked_range<uint32_t>& range) {
+                        for (uint32_t t = range.begin(); t != range.end(); ++t) {
+                          const uint32_t id = mesh.materialIds[t];
+                          const Material& material = scene.materials[id];
+                          if (!material.isEmissive()) continue;
+                          vec3 p0, p1, p2;
+                          trianglePositions(mesh, t, 0.0f, p0, p1, p2);
+                          double w = triangleArea(p0, p1, p2) * luminance(material.emission);
+                          if (material.emissionTexture >= 0)
+                            w *= double(triangleEmissionLuminance(
+                                scene, mesh, t, scene.textures[size_t(material.emissionTexture)],
+                                textureMean[id]));
+                          triangleWeight[t] = w;
+                        }
+                      });
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-      const uint32_t id = mesh.materialIds[t];
-      const Material& material = scene.materials[id];
-      if (!material.isEmissive()) continue;
-      if (textureMean[id] < 0)
-        textureMean[id] = meanTextureLuminance(scene, material.emissionTexture);
-      vec3 p0, p1, p2;
-      trianglePositions(mesh, t, 0.0f, p0, p1, p2);
-      double w = triangleArea(p0, p1, p2) * luminance(material.emission);
-      if (material.emissionTexture >= 0) w *= double(textureMean[id]);
+      const double w = triangleWeight[t];
       if (!(w > 0) || !std::isfinite(w)) continue;
       ls.emitters.push_back({m, t, 0.0f});
       weights.push_back(w);

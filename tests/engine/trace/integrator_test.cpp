@@ -428,6 +428,60 @@ TEST(Integrator, EmissionTexturesModulateEmittersSeenAndSampled) {
   EXPECT_GT(checked, 20);
 }
 
+TEST(Integrator, TexturedEmittersAreSampledWhereTheirTextureGlows) {
+  // The quad as a strip of 8 columns of 2 triangles each, u = (x + 1) / 2, under a texture
+  // of 64 columns that glows (1) only in columns 40-47: the sixth strip column (u 0.625 to
+  // 0.75). Light sampling must choose that column's triangles, the others only at the floor.
+  std::vector<vec3> texels(64 * 4, vec3(0.0f));
+  for (int y = 0; y < 4; ++y)
+    for (int x = 40; x < 48; ++x) texels[size_t(y * 64 + x)] = vec3(1.0f);
+  Scene scene = texturedQuad(R"({"type": "emissive", "radiance": 3})", texels, 64);
+  scene.materials[0].emissionTexture = 0;
+  Mesh strip;
+  const int columns = 8;
+  for (int i = 0; i <= columns; ++i)
+    for (int j = 0; j <= 1; ++j) {
+      const float u = float(i) / float(columns), v = float(j);
+      strip.positions.push_back(vec3(2.0f * u - 1.0f, 2.0f * v - 1.0f, 0.0f));
+      strip.uvs.push_back(vec2(u, v));
+    }
+  strip.vertexCount = uint32_t(strip.positions.size());
+  for (uint32_t i = 0; i < uint32_t(columns); ++i) {
+    const uint32_t a = 2 * i, b = 2 * i + 2, c = 2 * i + 3, d = 2 * i + 1;
+    strip.indices.insert(strip.indices.end(), {a, b, c, a, c, d});
+    strip.materialIds.insert(strip.materialIds.end(), {0u, 0u});
+  }
+  scene.meshes.assign(1, strip);
+  const auto prepared = prepareScene(scene);
+  const std::vector<float>& probability = prepared->lights.triangleProbability[0];
+  ASSERT_EQ(probability.size(), size_t(2 * columns));
+  double glowing = 0, dark = 0;
+  for (int t = 0; t < 2 * columns; ++t) (t / 2 == 5 ? glowing : dark) += probability[size_t(t)];
+  EXPECT_NEAR(glowing + dark, 1.0, 1e-5);
+  // The estimate reads the texture blurred over half a triangle, so the columns beside the
+  // glowing one get a little; the texture's mean alone would give the column 1/8.
+  EXPECT_GT(glowing, 0.85);
+  for (int t = 0; t < 2 * columns; ++t) {
+    // Every triangle keeps a share, so that a detail the estimate missed is still
+    // light-sampled; the columns two away from the glow keep only that floor.
+    EXPECT_GT(probability[size_t(t)], 0.0f) << t;
+    if (std::abs(t / 2 - 5) >= 2) EXPECT_LT(probability[size_t(t)], 1e-3f) << t;
+  }
+  // Sampled points land in the glowing column and carry its radiance.
+  int inColumn = 0;
+  for (int i = 0; i < 64; ++i) {
+    LightSample ls;
+    const glm::vec2 u((float(i % 8) + 0.5f) / 8.0f, (float(i / 8) + 0.5f) / 8.0f);
+    const float choose = (float(i) + 0.5f) / 64.0f;
+    ASSERT_TRUE(sampleLight(prepared->scene, prepared->lights, vec3(0, 0, 3), 0.0f, choose, u, ls));
+    const float texU = 0.5f * (ls.point.x + 1.0f);
+    inColumn += texU > 0.625f && texU < 0.75f;
+    // Between the column's outer texel centres the bilinear lookup reads glowing texels only.
+    if (texU > 40.5f / 64 && texU < 47.5f / 64) EXPECT_NEAR(ls.radiance.x, 3.0f, 1e-4f);
+  }
+  EXPECT_GT(inColumn, 52) << "of 64";
+}
+
 // A 64 x 64 checker of single texels, black and white (float, so every mip level of it is
 // exactly 0.5).
 std::vector<vec3> checkerTexels() {
