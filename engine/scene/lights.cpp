@@ -108,9 +108,86 @@ void trianglePositions(const Mesh& mesh, uint32_t primId, float time, vec3& p0, 
   p2 = vertexAtTime(mesh.positions, mesh, idx[2], time);
 }
 
+namespace {
+// The chart of a mesh's emitting triangles (those of positive weight), at time 0.
+EmitterChart makeEmitterChart(const Mesh& mesh, const std::vector<double>& weight) {
+  glm::dvec3 normalSum(0.0), centroid(0.0);
+  double area = 0;
+  for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (!(weight[t] > 0) || !std::isfinite(weight[t])) continue;
+    vec3 p0, p1, p2;
+    trianglePositions(mesh, t, 0.0f, p0, p1, p2);
+    const glm::dvec3 halfCross = 0.5 * glm::dvec3(glm::cross(p1 - p0, p2 - p0));
+    const double a = glm::length(halfCross);
+    normalSum += halfCross;
+    centroid += a * glm::dvec3(p0 + p1 + p2) / 3.0;
+    area += a;
+  }
+  EmitterChart chart;
+  if (!(area > 0)) return chart;
+  centroid /= area;
+  if (glm::length(normalSum) < double(kFlatChart) * area) {
+    chart.flat = false;
+    chart.origin = vec3(centroid);
+    return chart;
+  }
+  // Fixed axes of the plane: the world axis least along the normal, made perpendicular to it,
+  // and the normal's cross product with that (a rectangle's u and v as makeRectangle has them).
+  const glm::dvec3 n = glm::normalize(normalSum);
+  const glm::dvec3 a = glm::abs(n);
+  const glm::dvec3 reference = a.x <= a.y && a.x <= a.z ? glm::dvec3(1, 0, 0)
+                               : a.y <= a.z             ? glm::dvec3(0, 1, 0)
+                                                        : glm::dvec3(0, 0, 1);
+  const glm::dvec3 u = glm::normalize(reference - n * glm::dot(n, reference));
+  const glm::dvec3 v = glm::cross(n, u);
+  glm::dvec2 lo(INFINITY), hi(-INFINITY);
+  for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (!(weight[t] > 0) || !std::isfinite(weight[t])) continue;
+    vec3 p[3];
+    trianglePositions(mesh, t, 0.0f, p[0], p[1], p[2]);
+    for (const vec3 q : p) {
+      const glm::dvec2 c(glm::dot(glm::dvec3(q) - centroid, u),
+                         glm::dot(glm::dvec3(q) - centroid, v));
+      lo = glm::min(lo, c);
+      hi = glm::max(hi, c);
+    }
+  }
+  const glm::dvec2 size = glm::max(hi - lo, glm::dvec2(1e-12));
+  chart.origin = vec3(centroid + lo.x * u + lo.y * v);
+  chart.axisU = vec3(u / size.x);
+  chart.axisV = vec3(v / size.y);
+  return chart;
+}
+}  // namespace
+
+glm::vec2 directionChart(vec3 d) {
+  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
+  if (u >= 1.0f) u -= 1.0f;
+  return {std::clamp(u, 0.0f, 1.0f), std::clamp(0.5f * (1.0f - d.y), 0.0f, 1.0f)};
+}
+
+glm::vec2 emitterChartAt(const EmitterChart& chart, vec3 point) {
+  const vec3 d = point - chart.origin;
+  if (chart.flat)
+    return glm::clamp(glm::vec2(glm::dot(d, chart.axisU), glm::dot(d, chart.axisV)), 0.0f, 1.0f);
+  const float length = glm::length(d);
+  return length > 0 ? directionChart(d / length) : glm::vec2(0.5f);
+}
+
+glm::vec2 lightChart(const LightSampler& lights, const LightSample& sample) {
+  if (sample.object < 0) return glm::vec2(0.5f);
+  const size_t object = size_t(sample.object);
+  if (object < lights.meshCount) return emitterChartAt(lights.charts[object], sample.point);
+  if (object < lights.meshCount + lights.punctualCount) return glm::vec2(0.5f);
+  return directionChart(sample.wi);
+}
+
 LightSampler buildLightSampler(const Scene& scene) {
   LightSampler ls;
   ls.triangleProbability.resize(scene.meshes.size());
+  ls.charts.resize(scene.meshes.size());
+  ls.meshCount = scene.meshes.size();
+  ls.punctualCount = scene.lights.size();
   std::vector<double> weights;
   double sum = 0;
   std::vector<float> textureMean(scene.materials.size(), -1.0f);
@@ -139,6 +216,9 @@ LightSampler buildLightSampler(const Scene& scene) {
                           triangleWeight[t] = w;
                         }
                       });
+    if (std::any_of(triangleWeight.begin(), triangleWeight.end(),
+                    [](double w) { return w > 0 && std::isfinite(w); }))
+      ls.charts[m] = makeEmitterChart(mesh, triangleWeight);
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
       const double w = triangleWeight[t];
       if (!(w > 0) || !std::isfinite(w)) continue;
@@ -205,11 +285,13 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
     out.point = reference + out.wi;
     out.normal = -out.wi;
     out.delta = false;
+    out.object = int(lights.meshCount + lights.punctualCount);
     return out.pdf > 0 && std::isfinite(out.pdf);
   }
   if (e.punctual >= 0) {
     if (!samplePunctual(scene.lights[size_t(e.punctual)], reference, out)) return false;
     out.pdf = e.probability;
+    out.object = int(lights.meshCount) + e.punctual;
     return true;
   }
   const Mesh& mesh = scene.meshes[e.meshId];
@@ -231,6 +313,7 @@ bool sampleLight(const Scene& scene, const LightSampler& lights, vec3 reference,
   out.distance = std::sqrt(dist2);
   out.wi = toLight / out.distance;
   out.delta = false;
+  out.object = int(e.meshId);
   const Material& material = scene.materials[mesh.materialIds[e.primId]];
   if (material.emissionTexture >= 0 && !mesh.uvs.empty()) {
     const uint32_t* idx = &mesh.indices[3 * size_t(e.primId)];

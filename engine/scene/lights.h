@@ -1,6 +1,6 @@
 // Lights for next-event estimation: every triangle whose material emits (area lights), and
 // the scene's punctual lights. One light is chosen in proportion to its power: a triangle's
-// area (at time 0) times its emitted luminance (times its emission texture's mean), a
+// area (at time 0) times its emitted luminance (times its emission texture's mean over it), a
 // punctual light's luminous intensity times its cone's solid angle (a directional light's
 // illuminance times the scene's cross-section), both divided by pi. A triangle is then
 // sampled uniformly in area at the ray's time, so moving emitters light the scene where they
@@ -8,6 +8,22 @@
 // constant background without one) is one more light, weighing the scene's cross-section
 // times its radiance integrated over the sphere (a directional light's weight, generalised),
 // and samples a direction by its own importance (environment.h).
+//
+// Light charts: where a light sample landed, in coordinates continuous over its emitting
+// object, for what learns along the light's dimensions (a penumbra is a step in the light
+// sample's position). sampleLight's (u, v) warp each triangle on its own, so across a
+// rectangle's diagonal they jump; the chart does not:
+//  - a flat emitting mesh (its emitting triangles' area-weighted normals summing to at least
+//    kFlatChart of their area: a rectangle, a disk, a panel): the point projected onto the
+//    mesh's plane, in two fixed axes of it, scaled so that the emitting triangles span
+//    [0, 1]^2; for a rectangle, its own (s, t) up to the axes' order and sense;
+//  - any other emitting mesh (a sphere, a bulb, a closed shape): the point's direction from
+//    the emitting triangles' area-weighted centroid, as (azimuth, (1 - cos polar) / 2) in
+//    [0, 1]^2 about +y, continuous over a star-shaped emitter but for its azimuth seam;
+//  - the environment: the sampled direction's (azimuth, (1 - cos polar) / 2), the azimuth as
+//    the map's u (environment.h) before its rotation;
+//  - a punctual light (one point or direction): (0.5, 0.5).
+// The chart is computed at time 0: a moving emitter's samples move across it.
 #pragma once
 
 #include "scene/scene.h"
@@ -18,6 +34,14 @@
 #include <vector>
 
 namespace penumbra {
+
+// The chart of one emitting mesh (see the top of this file).
+struct EmitterChart {
+  bool flat = true;
+  vec3 origin{0.0f};                    // flat: the corner of the bounds; curved: the centroid
+  vec3 axisU{1, 0, 0}, axisV{0, 0, 1};  // flat: the plane's axes, divided by the bounds' size
+};
+inline constexpr float kFlatChart = 0.9f;
 
 struct LightSampler {
   struct Emitter {
@@ -35,6 +59,9 @@ struct LightSampler {
   // What lights the scene from far away (null: nothing), and the probability of choosing it.
   std::shared_ptr<const EnvironmentLight> environment;
   float environmentProbability = 0;
+  // Per mesh: its chart (meaningful for meshes with emitters only).
+  std::vector<EmitterChart> charts;
+  size_t meshCount = 0, punctualCount = 0;  // for the lights' object ids (LightSample::object)
 
   bool empty() const { return emitters.empty(); }
 };
@@ -64,7 +91,20 @@ struct LightSample {
   float pdf = 0;       // area lights: solid angle at the reference point; punctual lights:
                        // the probability of choosing it
   bool delta = false;  // a punctual light: no BSDF sample can reach it, so no MIS
+  // Which emitting object the sample is on: a mesh's id for its triangles, then the scene's
+  // punctual lights (meshes + light index), then the environment (meshes + punctual lights);
+  // and where on it, in its chart (the top of this file).
+  int object = -1;
+  glm::vec2 chart{0.5f};
 };
+
+// A point of an emitting mesh in its chart.
+glm::vec2 emitterChartAt(const EmitterChart& chart, vec3 point);
+// The chart coordinates of a direction: (azimuth as the environment map's u, (1 - y) / 2).
+glm::vec2 directionChart(vec3 direction);
+// Where a light sample (of sampleLight with these lights) landed, in its object's chart;
+// (0.5, 0.5) for a punctual light or no sample (object -1).
+glm::vec2 lightChart(const LightSampler& lights, const LightSample& sample);
 
 // Radiance a material emits at texture coordinate uv (its emission times its texture, over
 // the footprint when one is known).

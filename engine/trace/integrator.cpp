@@ -316,9 +316,11 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     if (depth >= maxDepth) break;
 
     const SurfaceBsdf bsdf = makeBsdf(scene, surface);
+    bool recordLight = false;  // the first non-specular vertex: its light sample is a feature
     if (features && cameraChain) {
       chainLength += hit.t;
       if (!bsdf.isSpecular()) {
+        recordLight = true;
         features->albedo = throughput * bsdf.color;
         features->normal = surface.shadingNormal;
         features->depth = chainLength;
@@ -336,6 +338,10 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       const glm::vec2 uLightPoint = dimensions.next2D(Scrambling::Owen);
       LightSample ls;
       if (sampleLight(scene, prepared.lights, surface.point, ray.time, uLight, uLightPoint, ls)) {
+        if (recordLight) {
+          features->lightObject = ls.object;
+          features->lightChart = lightChart(prepared.lights, ls);
+        }
         const vec3 wi = ls.wi;
         const vec3 f = evalBsdfCos(bsdf, wo, wi);
         if (f.x > 0 || f.y > 0 || f.z > 0) {

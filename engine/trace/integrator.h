@@ -59,6 +59,11 @@ struct PathFeatures {
   vec3 normal{0.0f};
   float depth = 0.0f;
   vec3 emission{0.0f};
+  // The light sample of that first non-specular vertex's next-event estimate: its emitting
+  // object (LightSample::object; -1: none, e.g. no light sampled there or the sample failed)
+  // and where it landed in the object's chart (scene/lights.h; (0.5, 0.5) without one).
+  int lightObject = -1;
+  glm::vec2 lightChart{0.5f};
 };
 
 // Radiance arriving through `sample`; the integrator's own dimensions come from

@@ -465,7 +465,9 @@ TEST(Integrator, TexturedEmittersAreSampledWhereTheirTextureGlows) {
     // Every triangle keeps a share, so that a detail the estimate missed is still
     // light-sampled; the columns two away from the glow keep only that floor.
     EXPECT_GT(probability[size_t(t)], 0.0f) << t;
-    if (std::abs(t / 2 - 5) >= 2) EXPECT_LT(probability[size_t(t)], 1e-3f) << t;
+    if (std::abs(t / 2 - 5) >= 2) {
+      EXPECT_LT(probability[size_t(t)], 1e-3f) << t;
+    }
   }
   // Sampled points land in the glowing column and carry its radiance.
   int inColumn = 0;
@@ -477,7 +479,9 @@ TEST(Integrator, TexturedEmittersAreSampledWhereTheirTextureGlows) {
     const float texU = 0.5f * (ls.point.x + 1.0f);
     inColumn += texU > 0.625f && texU < 0.75f;
     // Between the column's outer texel centres the bilinear lookup reads glowing texels only.
-    if (texU > 40.5f / 64 && texU < 47.5f / 64) EXPECT_NEAR(ls.radiance.x, 3.0f, 1e-4f);
+    if (texU > 40.5f / 64 && texU < 47.5f / 64) {
+      EXPECT_NEAR(ls.radiance.x, 3.0f, 1e-4f);
+    }
   }
   EXPECT_GT(inColumn, 52) << "of 64";
 }
