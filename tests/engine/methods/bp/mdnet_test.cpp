@@ -1,0 +1,232 @@
+// The multidimensional network (methods/bp/mdnet.h) on a synthetic soft shadow with a known
+// answer: a grating of slats between a small area light and a ground plane seen from above,
+// direct light only, albedo 1 (as after demodulation). Fitted on a pixel's 5x5 neighbourhood's
+// samples over (dx, dy, light u, light v) and averaged over the pixel and the light, the network
+// must beat every image-space filter of a single width: it learns the penumbra's step along
+// the shear between the image and the light, which a filter over the image alone cannot see.
+#include "methods/bp/mdnet.h"
+#include "core/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace penumbra {
+namespace {
+
+constexpr int kWidth = 12;              // pixels per side
+constexpr float kPixel = 1.2f / 32.0f;  // ground units per pixel
+constexpr float kX0 = -0.6f;            // the window's corner on the ground
+constexpr float kLightSize = 0.25f;     // a square light at height 2
+constexpr int kSpp = 16;
+constexpr int kRadius = 2;  // the neighbourhood: 5x5 pixels
+constexpr float kPi = 3.14159265f;
+
+// Irradiance from the light point (lu, lv) in [0, 1)^2 at ground point (x, z), times the light's
+// area, over pi: the integrand whose mean over a pixel and the light is the pixel's value.
+float radiance(float x, float z, float lu, float lv) {
+  const float lx = (lu - 0.5f) * kLightSize, lz = (lv - 0.5f) * kLightSize;
+  const float dx = lx - x, dy = 2.0f, dz = lz - z;
+  const float r2 = dx * dx + dy * dy + dz * dz;
+  const float cosine = dy / std::sqrt(r2);
+  // Slats along z at height 1, 0.11 wide every 0.2 in x.
+  const float crossing = (x + 0.5f * dx) * 5.0f;
+  const bool blocked = crossing - std::floor(crossing) < 0.55f;
+  return blocked ? 0.0f : cosine * cosine / r2 / kPi * kLightSize * kLightSize;
+}
+
+struct Sample {
+  float sx, sy, lu, lv;  // position in the pixel, light point, all in [0, 1)
+  float value;
+};
+
+// kSpp samples per pixel: the light point 4x4-stratified, the position Latin-hypercube.
+std::vector<std::vector<Sample>> traceSamples(uint64_t seed) {
+  Pcg32 rng(seed, 7);
+  std::vector<std::vector<Sample>> pixels(kWidth * kWidth);
+  for (int py = 0; py < kWidth; ++py)
+    for (int px = 0; px < kWidth; ++px) {
+      std::vector<int> rowX(kSpp), rowY(kSpp);
+      for (int k = 0; k < kSpp; ++k) rowX[size_t(k)] = rowY[size_t(k)] = k;
+      for (int k = kSpp - 1; k > 0; --k) {
+        std::swap(rowX[size_t(k)], rowX[rng.nextUint() % uint32_t(k + 1)]);
+        std::swap(rowY[size_t(k)], rowY[rng.nextUint() % uint32_t(k + 1)]);
+      }
+      auto& out = pixels[size_t(py * kWidth + px)];
+      for (int k = 0; k < kSpp; ++k) {
+        Sample s;
+        s.lu = (float(k % 4) + rng.nextFloat()) / 4.0f;
+        s.lv = (float(k / 4) + rng.nextFloat()) / 4.0f;
+        s.sx = (float(rowX[size_t(k)]) + rng.nextFloat()) / kSpp;
+        s.sy = (float(rowY[size_t(k)]) + rng.nextFloat()) / kSpp;
+        s.value = radiance(kX0 + (float(px) + s.sx) * kPixel, kX0 + (float(py) + s.sy) * kPixel,
+                           s.lu, s.lv);
+        out.push_back(s);
+      }
+    }
+  return pixels;
+}
+
+// The pixels' values by a 16x16 midpoint rule over the pixel times 8x8 over the light.
+std::vector<float> reference() {
+  std::vector<float> ref(kWidth * kWidth);
+  for (int py = 0; py < kWidth; ++py)
+    for (int px = 0; px < kWidth; ++px) {
+      double sum = 0;
+      for (int i = 0; i < 256; ++i)
+        for (int j = 0; j < 64; ++j)
+          sum += radiance(kX0 + (float(px) + (float(i % 16) + 0.5f) / 16.0f) * kPixel,
+                          kX0 + (float(py) + (float(i / 16) + 0.5f) / 16.0f) * kPixel,
+                          (float(j % 8) + 0.5f) / 8.0f, (float(j / 8) + 0.5f) / 8.0f);
+      ref[size_t(py * kWidth + px)] = float(sum / (256.0 * 64.0));
+    }
+  return ref;
+}
+
+// The pixels whose neighbourhood lies inside the image, as nearly every pixel of a real image.
+bool interior(int x, int y) {
+  return x >= kRadius && y >= kRadius && x < kWidth - kRadius && y < kWidth - kRadius;
+}
+
+// The mean squared error over the interior pixels.
+double mse(const std::vector<float>& image, const std::vector<float>& ref) {
+  double sum = 0;
+  int count = 0;
+  for (int y = 0; y < kWidth; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      if (!interior(x, y)) continue;
+      const size_t p = size_t(y * kWidth + x);
+      sum += double(image[p] - ref[p]) * (image[p] - ref[p]);
+      ++count;
+    }
+  return sum / double(count);
+}
+
+// A Gaussian filter of the pixel means (clamped at the edges), the image-space filter's stand-in.
+std::vector<float> gaussian(const std::vector<float>& image, float sigma) {
+  const int r = int(std::ceil(3 * sigma));
+  std::vector<float> out(image.size());
+  for (int y = 0; y < kWidth; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      double sum = 0, weight = 0;
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          const int qx = std::clamp(x + dx, 0, kWidth - 1), qy = std::clamp(y + dy, 0, kWidth - 1);
+          const double w = std::exp(-double(dx * dx + dy * dy) / (2.0 * sigma * sigma));
+          sum += w * image[size_t(qy * kWidth + qx)];
+          weight += w;
+        }
+      out[size_t(y * kWidth + x)] = float(sum / weight);
+    }
+  return out;
+}
+
+// The interior pixels' network estimates over the first `inputs` of (dx, dy, light u, light v).
+std::vector<float> networkEstimate(const std::vector<std::vector<Sample>>& pixels, int inputs) {
+  mdnet::Config config;
+  config.inputs = inputs;
+  config.epochs = 300;
+  const float lo[] = {-0.5f, -0.5f, -0.5f, -0.5f}, hi[] = {0.5f, 0.5f, 0.5f, 0.5f};
+  const std::vector<float> nodes = mdnet::haltonPoints(inputs, 256, lo, hi);
+  std::vector<float> out(pixels.size());
+  for (int py = 0; py < kWidth; ++py)
+    for (int px = 0; px < kWidth; ++px) {
+      if (!interior(px, py)) continue;
+      std::vector<float> x;
+      std::vector<glm::vec3> y;
+      for (int dy = -kRadius; dy <= kRadius; ++dy)
+        for (int dx = -kRadius; dx <= kRadius; ++dx) {
+          const int qx = px + dx, qy = py + dy;
+          for (const Sample& s : pixels[size_t(qy * kWidth + qx)]) {
+            const float in[] = {float(dx) + s.sx - 0.5f, float(dy) + s.sy - 0.5f, s.lu - 0.5f,
+                                s.lv - 0.5f};
+            x.insert(x.end(), in, in + inputs);
+            y.push_back(glm::vec3(s.value));
+          }
+        }
+      mdnet::Net net;
+      mdnet::init(net, config, uint64_t(py * kWidth + px));
+      mdnet::fit(net, config, x, y);
+      out[size_t(py * kWidth + px)] = mdnet::average(net, config, nodes).x;
+    }
+  return out;
+}
+
+TEST(MdNet, ASoftShadowIsReconstructedAlongTheLightsDimensions) {
+  // Three independent sets of samples, their squared errors pooled: one set's 144 pixels
+  // leave the ratio to the best filter between 0.2 and 0.55.
+  const std::vector<float> ref = reference();
+  double boxMse = 0, light = 0, imageOnly = 0;
+  double filter[4] = {0, 0, 0, 0};
+  const float sigmas[] = {0.5f, 1.0f, 2.0f, 4.0f};
+  for (uint64_t seed : {1, 2, 3}) {
+    const auto pixels = traceSamples(seed);
+    std::vector<float> box(pixels.size());
+    for (size_t p = 0; p < pixels.size(); ++p) {
+      double sum = 0;
+      for (const Sample& s : pixels[p]) sum += s.value;
+      box[p] = float(sum / double(pixels[p].size()));
+    }
+    boxMse += mse(box, ref) / 3;
+    for (int k = 0; k < 4; ++k) filter[k] += mse(gaussian(box, sigmas[k]), ref) / 3;
+    light += mse(networkEstimate(pixels, 4), ref) / 3;
+    imageOnly += mse(networkEstimate(pixels, 2), ref) / 3;
+  }
+  const double bestFilter = std::min(boxMse, *std::min_element(filter, filter + 4));
+  std::printf("box %.3e  best filter %.3e  network (dx, dy, lu, lv) %.3e  network (dx, dy) %.3e\n",
+              boxMse, bestFilter, light, imageOnly);
+  EXPECT_LT(light, 0.5 * bestFilter) << "better than any filter of one width";
+  EXPECT_LT(light, 0.5 * imageOnly) << "the light's dimensions carry the information";
+}
+
+TEST(MdNet, FitsAStepAlongAShearAndAveragesIt) {
+  // A step along x - 0.5 t over (x, t) in [-1, 1]^2: its mean over the square is 0.5 (the step
+  // line halves it), which a network must give from 400 samples.
+  mdnet::Config config;
+  config.inputs = 2;
+  config.epochs = 300;
+  Pcg32 rng(3, 1);
+  std::vector<float> x;
+  std::vector<glm::vec3> y;
+  for (int k = 0; k < 400; ++k) {
+    const float a = 2 * rng.nextFloat() - 1, t = 2 * rng.nextFloat() - 1;
+    x.insert(x.end(), {a, t});
+    y.push_back(glm::vec3(a - 0.5f * t > 0 ? 1.0f : 0.0f, 0.0f, 2.0f));
+  }
+  mdnet::Net net;
+  mdnet::init(net, config, 9);
+  const float loss = mdnet::fit(net, config, x, y);
+  EXPECT_LT(loss, 0.1f);
+  EXPECT_GT(mdnet::predict(net, config, std::vector<float>{0.6f, 0.0f}.data()).x, 0.8f);
+  EXPECT_LT(mdnet::predict(net, config, std::vector<float>{-0.6f, 0.0f}.data()).x, 0.2f);
+  const float lo[] = {-1, -1}, hi[] = {1, 1};
+  const glm::vec3 mean = mdnet::average(net, config, mdnet::haltonPoints(2, 1024, lo, hi));
+  EXPECT_NEAR(mean.x, 0.5f, 0.05f);
+  EXPECT_NEAR(mean.z, 2.0f, 1e-3f) << "a constant channel stays constant";
+  // Warm start: a second fit from these weights starts near the end of the first.
+  config.epochs = 1;
+  EXPECT_LT(mdnet::fit(net, config, x, y), 0.12f);
+}
+
+TEST(MdNet, HaltonPointsFillTheBox) {
+  const float lo[] = {0, -1, 2}, hi[] = {1, 1, 3};
+  const std::vector<float> p = mdnet::haltonPoints(3, 64, lo, hi);
+  ASSERT_EQ(p.size(), 192u);
+  double mean[3] = {0, 0, 0};
+  for (int k = 0; k < 64; ++k)
+    for (int d = 0; d < 3; ++d) {
+      const float v = p[size_t(k * 3 + d)];
+      EXPECT_GE(v, lo[d]);
+      EXPECT_LE(v, hi[d]);
+      mean[d] += v / 64.0;
+    }
+  EXPECT_NEAR(mean[0], 0.5, 0.03);
+  EXPECT_NEAR(mean[1], 0.0, 0.06);
+  EXPECT_NEAR(mean[2], 2.5, 0.03);
+  EXPECT_THROW(mdnet::haltonPoints(9, 4, lo, hi), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra
