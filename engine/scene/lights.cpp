@@ -4,8 +4,6 @@
 
 #include "scene/textures.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -197,25 +195,20 @@ LightSampler buildLightSampler(const Scene& scene) {
   std::vector<double> triangleWeight;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    // Each emitting triangle's weight, area times emitted luminance: in parallel, as a textured
-    // emitter's reads its texture.
+    // Each emitting triangle's weight: its area times its emitted luminance.
     triangleWeight.assign(mesh.triangleCount(), 0.0);
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(mesh.triangleCount()), 1024),
-                      [&](const tbb::blocked_range<uint32_t>& range) {
-                        for (uint32_t t = range.begin(); t != range.end(); ++t) {
-                          const uint32_t id = mesh.materialIds[t];
-                          const Material& material = scene.materials[id];
-                          if (!material.isEmissive()) continue;
-                          vec3 p0, p1, p2;
-                          trianglePositions(mesh, t, 0.0f, p0, p1, p2);
-                          double w = triangleArea(p0, p1, p2) * luminance(material.emission);
-                          if (material.emissionTexture >= 0)
-                            w *= double(triangleEmissionLuminance(
-                                scene, mesh, t, scene.textures[size_t(material.emissionTexture)],
-                                textureMean[id]));
-                          triangleWeight[t] = w;
-                        }
-                      });
+    for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+      const uint32_t id = mesh.materialIds[t];
+      const Material& material = scene.materials[id];
+      if (!material.isEmissive()) continue;
+      vec3 p0, p1, p2;
+      trianglePositions(mesh, t, 0.0f, p0, p1, p2);
+      double w = triangleArea(p0, p1, p2) * luminance(material.emission);
+      if (material.emissionTexture >= 0)
+        w *= double(triangleEmissionLuminance(
+            scene, mesh, t, scene.textures[size_t(material.emissionTexture)], textureMean[id]));
+      triangleWeight[t] = w;
+    }
     if (std::any_of(triangleWeight.begin(), triangleWeight.end(),
                     [](double w) { return w > 0 && std::isfinite(w); }))
       ls.charts[m] = makeEmitterChart(mesh, triangleWeight);
