@@ -2,6 +2,8 @@
 
 #include "core/rng.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
 
@@ -58,6 +60,21 @@ void forward(const Net& net, const Config& c, const float* x, float* h, float* o
   }
 }
 
+// The targets' mean and spread per channel, which the outputs are scaled by.
+void standardise(Net& net, std::span<const glm::vec3> targets) {
+  if (targets.empty()) return;
+  glm::dvec3 sum(0.0), sumSq(0.0);
+  for (const glm::vec3& t : targets) {
+    sum += glm::dvec3(t);
+    sumSq += glm::dvec3(t) * glm::dvec3(t);
+  }
+  const double n = double(targets.size());
+  const glm::dvec3 mean = sum / n;
+  const glm::dvec3 variance = glm::max(sumSq / n - mean * mean, glm::dvec3(0.0));
+  net.targetMean = glm::vec3(mean);
+  net.targetScale = glm::vec3(glm::sqrt(variance)) + 1e-6f;
+}
+
 }  // namespace
 
 void init(Net& net, const Config& config, uint64_t seed) {
@@ -89,16 +106,7 @@ float fit(Net& net, const Config& config, std::span<const float> inputs,
                                 std::to_string(n) + " samples");
   if (net.m.size() != size_t(parameterCount(config))) init(net, config, 0);
   if (n == 0) return 0.0f;
-  // Standardised targets.
-  glm::dvec3 sum(0.0), sumSq(0.0);
-  for (const glm::vec3& t : targets) {
-    sum += glm::dvec3(t);
-    sumSq += glm::dvec3(t) * glm::dvec3(t);
-  }
-  const glm::dvec3 mean = sum / double(n);
-  const glm::dvec3 variance = glm::max(sumSq / double(n) - mean * mean, glm::dvec3(0.0));
-  net.targetMean = glm::vec3(mean);
-  net.targetScale = glm::vec3(glm::sqrt(variance)) + 1e-6f;
+  standardise(net, targets);
   std::vector<glm::vec3> standard(n);
   for (size_t k = 0; k < n; ++k) standard[k] = (targets[k] - net.targetMean) / net.targetScale;
 
@@ -162,6 +170,102 @@ glm::vec3 average(const Net& net, const Config& config, std::span<const float> p
   for (size_t k = 0; k < count; ++k)
     sum += glm::dvec3(predict(net, config, &points[k * size_t(config.inputs)]));
   return glm::vec3(sum / double(count));
+}
+
+int batchLanes() {
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return avx2 ? 8 : 4;
+}
+
+std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch) {
+  check(config);
+  const int pixels = batch.pixelCount();
+  if (int(nets.size()) != pixels || batch.offsets.back() != batch.targets.size() ||
+      batch.inputs.size() != batch.targets.size() * size_t(config.inputs))
+    throw std::invalid_argument("mdnet::fitBatch: the batch's sizes do not match");
+  const int L = batchLanes(), I = config.inputs, H = config.hidden;
+  const size_t P = size_t(parameterCount(config));
+  std::vector<float> loss(size_t(pixels), 0.0f);
+  const int groups = (pixels + L - 1) / L;
+  tbb::parallel_for(tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>& r) {
+    const size_t lanes = static_cast<size_t>(L);
+    std::vector<float> x, y, valid, gradScale(lanes), params(P * lanes), m(P * lanes), v(P * lanes),
+        scratch(P * lanes), groupLoss(lanes);
+    std::vector<int> step(lanes);
+    for (int group = r.begin(); group != r.end(); ++group) {
+      const int first = group * L;
+      uint32_t samples = 0;
+      for (int lane = 0; lane < L && first + lane < pixels; ++lane)
+        samples = std::max(
+            samples, batch.offsets[size_t(first + lane) + 1] - batch.offsets[size_t(first + lane)]);
+      x.assign(size_t(samples) * size_t(I) * size_t(L), 0.0f);
+      y.assign(size_t(samples) * 3 * size_t(L), 0.0f);
+      valid.assign(size_t(samples) * size_t(L), 0.0f);
+      std::fill(params.begin(), params.end(), 0.0f);
+      std::fill(m.begin(), m.end(), 0.0f);
+      std::fill(v.begin(), v.end(), 0.0f);
+      std::fill(gradScale.begin(), gradScale.end(), 0.0f);
+      std::fill(step.begin(), step.end(), 0);
+      for (int lane = 0; lane < L && first + lane < pixels; ++lane) {
+        Net& net = *nets[size_t(first + lane)];
+        if (net.m.size() != P) init(net, config, 0);
+        const uint32_t begin = batch.offsets[size_t(first + lane)];
+        const uint32_t n = batch.offsets[size_t(first + lane) + 1] - begin;
+        const std::span<const glm::vec3> targets(batch.targets.data() + begin, n);
+        standardise(net, targets);
+        for (uint32_t k = 0; k < n; ++k) {
+          const float* in = &batch.inputs[(size_t(begin) + k) * size_t(I)];
+          for (int i = 0; i < I; ++i)
+            x[(size_t(k) * size_t(I) + size_t(i)) * size_t(L) + size_t(lane)] = in[i];
+          const glm::vec3 t = (targets[k] - net.targetMean) / net.targetScale;
+          for (int o = 0; o < 3; ++o)
+            y[(size_t(k) * 3 + size_t(o)) * size_t(L) + size_t(lane)] = t[o];
+          valid[size_t(k) * size_t(L) + size_t(lane)] = 1.0f;
+        }
+        gradScale[size_t(lane)] = n ? 2.0f / (float(n) * float(kOutputs)) : 0.0f;
+        forEachWeight(net, config, [&](float& w, int k) {
+          params[size_t(k) * size_t(L) + size_t(lane)] = w;
+          m[size_t(k) * size_t(L) + size_t(lane)] = net.m[size_t(k)];
+          v[size_t(k) * size_t(L) + size_t(lane)] = net.v[size_t(k)];
+        });
+        step[size_t(lane)] = net.step;
+      }
+      detail::Group g;
+      g.inputs = I;
+      g.hidden = H;
+      g.samples = int(samples);
+      g.epochs = config.epochs;
+      g.learningRate = config.learningRate;
+      g.x = x.data();
+      g.y = y.data();
+      g.valid = valid.data();
+      g.gradScale = gradScale.data();
+      g.params = params.data();
+      g.m = m.data();
+      g.v = v.data();
+      g.step = step.data();
+      g.loss = groupLoss.data();
+      g.scratch = scratch.data();
+      if (L == 8)
+        detail::trainGroupAvx2(g);
+      else
+        detail::trainGroupSse(g);
+      for (int lane = 0; lane < L && first + lane < pixels; ++lane) {
+        Net& net = *nets[size_t(first + lane)];
+        const uint32_t n =
+            batch.offsets[size_t(first + lane) + 1] - batch.offsets[size_t(first + lane)];
+        if (n == 0) continue;  // left as it was
+        forEachWeight(net, config, [&](float& w, int k) {
+          w = params[size_t(k) * size_t(L) + size_t(lane)];
+          net.m[size_t(k)] = m[size_t(k) * size_t(L) + size_t(lane)];
+          net.v[size_t(k)] = v[size_t(k) * size_t(L) + size_t(lane)];
+        });
+        net.step = step[size_t(lane)];
+        loss[size_t(first + lane)] = groupLoss[size_t(lane)] / (float(n) * float(kOutputs));
+      }
+    }
+  });
+  return loss;
 }
 
 std::vector<float> haltonPoints(int dimensions, int count, std::span<const float> lo,

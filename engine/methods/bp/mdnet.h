@@ -66,6 +66,45 @@ glm::vec3 predict(const Net& net, const Config& config, const float* x);
 // The mean of the output over `points` (count x config.inputs floats).
 glm::vec3 average(const Net& net, const Config& config, std::span<const float> points);
 
+// Training data of several pixels: pixel j owns samples [offsets[j], offsets[j + 1]) of the
+// flat arrays (inputs: config.inputs floats per sample; targets: one RGB value).
+struct Batch {
+  std::vector<float> inputs;
+  std::vector<glm::vec3> targets;
+  std::vector<uint32_t> offsets{0};
+  int pixelCount() const { return int(offsets.size()) - 1; }
+};
+
+// fit() for many pixels at once: nets[j] on batch pixel j, in lane groups of the widest
+// vector the CPU has (AVX2 + FMA: 8 pixels, else SSE: 4), in parallel over groups. A pixel's
+// result depends only on its own data, never on its group or the thread count; it differs from
+// fit()'s by rounding (a polynomial e^x, fused multiply-adds). Returns each pixel's final mean
+// squared error over its standardised targets.
+std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch);
+// The vector width fitBatch uses on this CPU, in pixels.
+int batchLanes();
+
+namespace detail {
+// One lane group's data for the kernel (mdnet_kernel.inc), every array [item][lane]; the
+// parameters in the order w1 (input-major), b1, w2 (hidden-major), b2.
+struct Group {
+  int inputs = 0, hidden = 0, samples = 0, epochs = 0;
+  float learningRate = 0;
+  const float* x = nullptr;          // samples x inputs x lanes
+  const float* y = nullptr;          // samples x 3 x lanes, standardised
+  const float* valid = nullptr;      // samples x lanes: 1 where the lane has that sample
+  const float* gradScale = nullptr;  // lanes: 2 / (3 n), 0 for an empty lane
+  float* params = nullptr;           // parameters x lanes
+  float* m = nullptr;                // Adam's moments, parameters x lanes
+  float* v = nullptr;
+  int* step = nullptr;       // lanes: Adam's step counts
+  float* loss = nullptr;     // lanes: the last epoch's summed squared error
+  float* scratch = nullptr;  // parameters x lanes: the gradient
+};
+void trainGroupSse(const Group& group);   // 4 lanes
+void trainGroupAvx2(const Group& group);  // 8 lanes
+}  // namespace detail
+
 // `count` points of a fixed low-discrepancy set (Halton, bases 2, 3, 5, ...) in the box
 // [lo[d], hi[d]] of each of `dimensions` dimensions, point-major: the nodes over which a
 // network is averaged (a pixel's footprint and the other dimensions' ranges).

@@ -132,12 +132,12 @@ std::vector<float> networkEstimate(const std::vector<std::vector<Sample>>& pixel
   config.epochs = 300;
   const float lo[] = {-0.5f, -0.5f, -0.5f, -0.5f}, hi[] = {0.5f, 0.5f, 0.5f, 0.5f};
   const std::vector<float> nodes = mdnet::haltonPoints(inputs, 256, lo, hi);
-  std::vector<float> out(pixels.size());
+  // The interior pixels' neighbourhoods as one batch, trained in lane groups.
+  mdnet::Batch batch;
+  std::vector<int> owner;  // batch pixel -> image pixel
   for (int py = 0; py < kWidth; ++py)
     for (int px = 0; px < kWidth; ++px) {
       if (!interior(px, py)) continue;
-      std::vector<float> x;
-      std::vector<glm::vec3> y;
       for (int dy = -kRadius; dy <= kRadius; ++dy)
         for (int dx = -kRadius; dx <= kRadius; ++dx) {
           const int qx = px + dx, qy = py + dy;
@@ -145,15 +145,23 @@ std::vector<float> networkEstimate(const std::vector<std::vector<Sample>>& pixel
           for (const Sample& s : pixels[size_t(qy * kWidth + qx)]) {
             const float in[] = {float(dx) + s.sx - 0.5f, float(dy) + s.sy - 0.5f, s.lu - 0.5f,
                                 s.lv - 0.5f};
-            x.insert(x.end(), in, in + inputs);
-            y.push_back(glm::vec3(s.value));
+            batch.inputs.insert(batch.inputs.end(), in, in + inputs);
+            batch.targets.push_back(glm::vec3(s.value));
           }
         }
-      mdnet::Net net;
-      mdnet::init(net, config, uint64_t(py * kWidth + px));
-      mdnet::fit(net, config, x, y);
-      out[size_t(py * kWidth + px)] = mdnet::average(net, config, nodes).x;
+      batch.offsets.push_back(uint32_t(batch.targets.size()));
+      owner.push_back(py * kWidth + px);
     }
+  std::vector<mdnet::Net> nets(owner.size());
+  std::vector<mdnet::Net*> pointers;
+  for (size_t j = 0; j < nets.size(); ++j) {
+    mdnet::init(nets[j], config, uint64_t(owner[j]));
+    pointers.push_back(&nets[j]);
+  }
+  mdnet::fitBatch(config, pointers, batch);
+  std::vector<float> out(pixels.size());
+  for (size_t j = 0; j < nets.size(); ++j)
+    out[size_t(owner[j])] = mdnet::average(nets[j], config, nodes).x;
   return out;
 }
 
@@ -217,6 +225,75 @@ TEST(MdNet, FitsAStepAlongAShearAndAveragesIt) {
   // Warm start: a second fit from these weights starts near the end of the first.
   config.epochs = 1;
   EXPECT_LT(mdnet::fit(net, config, x, y), 0.12f);
+}
+
+// Eleven pixels' data (not a multiple of any lane count): steps along different shears of
+// (x, t), with different sample counts, one pixel with none.
+mdnet::Batch shearedSteps() {
+  mdnet::Batch batch;
+  Pcg32 rng(21, 4);
+  for (int j = 0; j < 11; ++j) {
+    const int n = j == 7 ? 0 : 150 + 20 * j;
+    const float shear = 0.2f * float(j - 5);
+    for (int k = 0; k < n; ++k) {
+      const float a = 2 * rng.nextFloat() - 1, t = 2 * rng.nextFloat() - 1;
+      batch.inputs.insert(batch.inputs.end(), {a, t});
+      batch.targets.push_back(glm::vec3(a - shear * t > 0 ? 1.0f : 0.0f, 0.5f * a, 1.0f + t));
+    }
+    batch.offsets.push_back(uint32_t(batch.targets.size()));
+  }
+  return batch;
+}
+
+TEST(MdNet, ABatchTrainsEachPixelAsAloneAndAsTheScalarFit) {
+  mdnet::Config config;
+  config.inputs = 2;
+  config.epochs = 150;
+  const mdnet::Batch batch = shearedSteps();
+  const int pixels = batch.pixelCount();
+  std::vector<mdnet::Net> batched(static_cast<size_t>(pixels)), scalar(static_cast<size_t>(pixels));
+  std::vector<mdnet::Net*> pointers;
+  for (int j = 0; j < pixels; ++j) {
+    mdnet::init(batched[size_t(j)], config, uint64_t(100 + j));
+    mdnet::init(scalar[size_t(j)], config, uint64_t(100 + j));
+    pointers.push_back(&batched[size_t(j)]);
+  }
+  const std::vector<float> loss = mdnet::fitBatch(config, pointers, batch);
+  const float lo[] = {-1, -1}, hi[] = {1, 1};
+  const std::vector<float> nodes = mdnet::haltonPoints(2, 256, lo, hi);
+  for (int j = 0; j < pixels; ++j) {
+    const uint32_t begin = batch.offsets[size_t(j)], end = batch.offsets[size_t(j) + 1];
+    if (begin == end) {
+      EXPECT_EQ(batched[size_t(j)].step, 0) << "a pixel without samples is left as it was";
+      continue;
+    }
+    const float scalarLoss =
+        mdnet::fit(scalar[size_t(j)], config,
+                   std::span<const float>(batch.inputs.data() + 2 * begin, 2 * (end - begin)),
+                   std::span<const glm::vec3>(batch.targets.data() + begin, end - begin));
+    // The same training up to rounding (a polynomial e^x, fused multiply-adds): the same loss
+    // and the same average to well within the estimate's own error.
+    EXPECT_NEAR(loss[size_t(j)], scalarLoss, 0.01f + 0.05f * scalarLoss) << j;
+    const glm::vec3 a = mdnet::average(batched[size_t(j)], config, nodes);
+    const glm::vec3 b = mdnet::average(scalar[size_t(j)], config, nodes);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.01f) << j << " channel " << c;
+    EXPECT_EQ(batched[size_t(j)].step, config.epochs);
+  }
+  // A pixel's result does not depend on the pixels that share its lane group: pixel 3 trained
+  // alone (in lane 0, its group otherwise empty) gives the same bits.
+  mdnet::Batch alone;
+  const uint32_t begin = batch.offsets[3], end = batch.offsets[4];
+  alone.inputs.assign(batch.inputs.begin() + 2 * begin, batch.inputs.begin() + 2 * end);
+  alone.targets.assign(batch.targets.begin() + begin, batch.targets.begin() + end);
+  alone.offsets.push_back(end - begin);
+  mdnet::Net single;
+  mdnet::init(single, config, 103);
+  mdnet::Net* singlePointer = &single;
+  mdnet::fitBatch(config, std::span<mdnet::Net* const>(&singlePointer, 1), alone);
+  for (int i = 0; i < 2; ++i)
+    for (int h = 0; h < config.hidden; ++h) EXPECT_EQ(single.w1[i][h], batched[3].w1[i][h]);
+  for (int h = 0; h < config.hidden; ++h)
+    for (int o = 0; o < 3; ++o) EXPECT_EQ(single.w2[h][o], batched[3].w2[h][o]);
 }
 
 TEST(MdNet, HaltonPointsFillTheBox) {
