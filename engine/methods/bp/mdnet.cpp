@@ -177,13 +177,17 @@ int batchLanes() {
   return avx2 ? 8 : 4;
 }
 
-std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch) {
+std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch,
+                            int lanes) {
   check(config);
   const int pixels = batch.pixelCount();
   if (int(nets.size()) != pixels || batch.offsets.back() != batch.targets.size() ||
       batch.inputs.size() != batch.targets.size() * size_t(config.inputs))
     throw std::invalid_argument("mdnet::fitBatch: the batch's sizes do not match");
-  const int L = batchLanes(), I = config.inputs, H = config.hidden;
+  if (lanes != 0 && lanes != 4 && !(lanes == 8 && batchLanes() == 8))
+    throw std::invalid_argument("mdnet::fitBatch: " + std::to_string(lanes) +
+                                " lanes are not available on this CPU");
+  const int L = lanes != 0 ? lanes : batchLanes(), I = config.inputs, H = config.hidden;
   const size_t P = size_t(parameterCount(config));
   std::vector<float> loss(size_t(pixels), 0.0f);
   const int groups = (pixels + L - 1) / L;

@@ -80,7 +80,9 @@ struct Batch {
 // result depends only on its own data, never on its group or the thread count; it differs from
 // fit()'s by rounding (a polynomial e^x, fused multiply-adds). Returns each pixel's final mean
 // squared error over its standardised targets.
-std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch);
+// `lanes` forces a width (4: SSE; 8: AVX2, where the CPU has it), for tests; 0 picks the widest.
+std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch,
+                            int lanes = 0);
 // The vector width fitBatch uses on this CPU, in pixels.
 int batchLanes();
 

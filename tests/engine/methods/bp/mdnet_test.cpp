@@ -296,6 +296,34 @@ TEST(MdNet, ABatchTrainsEachPixelAsAloneAndAsTheScalarFit) {
     for (int o = 0; o < 3; ++o) EXPECT_EQ(single.w2[h][o], batched[3].w2[h][o]);
 }
 
+TEST(MdNet, TheSseKernelTrainsAsTheWidest) {
+  // The baseline kernel (4 lanes), which a CPU without AVX2 runs, against the widest here.
+  mdnet::Config config;
+  config.inputs = 2;
+  config.epochs = 150;
+  const mdnet::Batch batch = shearedSteps();
+  const int pixels = batch.pixelCount();
+  std::vector<mdnet::Net> narrow(static_cast<size_t>(pixels)), wide(static_cast<size_t>(pixels));
+  std::vector<mdnet::Net*> narrowPointers, widePointers;
+  for (int j = 0; j < pixels; ++j) {
+    mdnet::init(narrow[size_t(j)], config, uint64_t(7 * j));
+    mdnet::init(wide[size_t(j)], config, uint64_t(7 * j));
+    narrowPointers.push_back(&narrow[size_t(j)]);
+    widePointers.push_back(&wide[size_t(j)]);
+  }
+  const std::vector<float> narrowLoss = mdnet::fitBatch(config, narrowPointers, batch, 4);
+  const std::vector<float> wideLoss = mdnet::fitBatch(config, widePointers, batch);
+  const float lo[] = {-1, -1}, hi[] = {1, 1};
+  const std::vector<float> nodes = mdnet::haltonPoints(2, 256, lo, hi);
+  for (int j = 0; j < pixels; ++j) {
+    EXPECT_NEAR(narrowLoss[size_t(j)], wideLoss[size_t(j)], 0.01f + 0.05f * wideLoss[size_t(j)]);
+    const glm::vec3 a = mdnet::average(narrow[size_t(j)], config, nodes);
+    const glm::vec3 b = mdnet::average(wide[size_t(j)], config, nodes);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.01f) << j << " channel " << c;
+  }
+  EXPECT_THROW(mdnet::fitBatch(config, narrowPointers, batch, 3), std::invalid_argument);
+}
+
 TEST(MdNet, HaltonPointsFillTheBox) {
   const float lo[] = {0, -1, 2}, hi[] = {1, 1, 3};
   const std::vector<float> p = mdnet::haltonPoints(3, 64, lo, hi);
