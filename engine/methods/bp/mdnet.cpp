@@ -172,9 +172,17 @@ glm::vec3 average(const Net& net, const Config& config, std::span<const float> p
   return glm::vec3(sum / double(count));
 }
 
+namespace {
+bool hasAvx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
+bool hasAvx512() {
+  return hasAvx2() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512dq");
+}
+}  // namespace
+
 int batchLanes() {
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return avx2 ? 8 : 4;
+  static const int lanes = hasAvx512() ? 16 : hasAvx2() ? 8 : 4;
+  return lanes;
 }
 
 std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch,
@@ -184,7 +192,7 @@ std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, co
   if (int(nets.size()) != pixels || batch.offsets.back() != batch.targets.size() ||
       batch.inputs.size() != batch.targets.size() * size_t(config.inputs))
     throw std::invalid_argument("mdnet::fitBatch: the batch's sizes do not match");
-  if (lanes != 0 && lanes != 4 && !(lanes == 8 && batchLanes() == 8))
+  if (lanes != 0 && lanes != 4 && !(lanes == 8 && hasAvx2()) && !(lanes == 16 && hasAvx512()))
     throw std::invalid_argument("mdnet::fitBatch: " + std::to_string(lanes) +
                                 " lanes are not available on this CPU");
   const int L = lanes != 0 ? lanes : batchLanes(), I = config.inputs, H = config.hidden;
@@ -250,7 +258,9 @@ std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, co
       g.step = step.data();
       g.loss = groupLoss.data();
       g.scratch = scratch.data();
-      if (L == 8)
+      if (L == 16)
+        detail::trainGroupAvx512(g);
+      else if (L == 8)
         detail::trainGroupAvx2(g);
       else
         detail::trainGroupSse(g);

@@ -76,11 +76,12 @@ struct Batch {
 };
 
 // fit() for many pixels at once: nets[j] on batch pixel j, in lane groups of the widest
-// vector the CPU has (AVX2 + FMA: 8 pixels, else SSE: 4), in parallel over groups. A pixel's
-// result depends only on its own data, never on its group or the thread count; it differs from
-// fit()'s by rounding (a polynomial e^x, fused multiply-adds). Returns each pixel's final mean
+// vector the CPU has (AVX-512: 16 pixels, AVX2 + FMA: 8, else SSE: 4), in parallel over groups. A
+// pixel's result depends only on its own data, never on its group or the thread count; it differs
+// from fit()'s by rounding (a polynomial e^x, fused multiply-adds). Returns each pixel's final mean
 // squared error over its standardised targets.
-// `lanes` forces a width (4: SSE; 8: AVX2, where the CPU has it), for tests; 0 picks the widest.
+// `lanes` forces a width (4: SSE; 8: AVX2, 16: AVX-512, where the CPU has them), for tests; 0
+// picks the widest.
 std::vector<float> fitBatch(const Config& config, std::span<Net* const> nets, const Batch& batch,
                             int lanes = 0);
 // The vector width fitBatch uses on this CPU, in pixels.
@@ -103,8 +104,9 @@ struct Group {
   float* loss = nullptr;     // lanes: the last epoch's summed squared error
   float* scratch = nullptr;  // parameters x lanes: the gradient
 };
-void trainGroupSse(const Group& group);   // 4 lanes
-void trainGroupAvx2(const Group& group);  // 8 lanes
+void trainGroupSse(const Group& group);     // 4 lanes
+void trainGroupAvx2(const Group& group);    // 8 lanes
+void trainGroupAvx512(const Group& group);  // 16 lanes
 }  // namespace detail
 
 // `count` points of a fixed low-discrepancy set (Halton, bases 2, 3, 5, ...) in the box
