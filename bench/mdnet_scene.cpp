@@ -8,7 +8,9 @@
 //
 // Usage: penumbra_bench_mdnet_scene scene.json --reference ref.exr [--spp 16] [--size WxH]
 //        [--epochs 200] [--hidden 8] [--radius 2] [--own 0|1] [--at-samples 0|1] [--seed S]
-//        [--max-depth D] [--bp bp.exr] [--out net.pfm]
+//        [--max-depth D] [--direct N] [--bp bp.exr] [--out net.pfm]
+// --direct N scores the first vertex's next-event part alone (PathFeatures::directLight), the
+// part the light chart explains, against its own mean over N samples a pixel of another seed.
 // --at-samples 1 averages the network at the pixel's own samples' points, each remodulated by
 // its own albedo and emission, instead of over a fixed set with the pixel's mean albedo.
 #include "core/image_io.h"
@@ -35,7 +37,7 @@ double now() {
 
 struct Traced {
   float in[mdnet::kMaxInputs];  // offset in the pixel (2), then lens (2), time, light chart (2)
-  vec3 radiance, albedo, emission;
+  vec3 radiance, albedo, emission, direct;
 };
 
 double mse(const Image& a, const Image& ref) {
@@ -52,6 +54,7 @@ int main(int argc, char** argv) {
   std::string scenePath, referencePath, bpPath, outPath;
   int spp = 16, epochs = 200, hidden = 8, radius = 2, width = 0, height = 0, maxDepth = -1;
   bool own = true, atSamples = false;
+  int directSpp = 0;
   uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -70,6 +73,8 @@ int main(int argc, char** argv) {
       hidden = std::clamp(std::atoi(argv[++i]), 1, mdnet::kMaxHidden);
     else if (a == "--radius" && more)
       radius = std::clamp(std::atoi(argv[++i]), 1, 4);
+    else if (a == "--direct" && more)
+      directSpp = std::max(0, std::atoi(argv[++i]));
     else if (a == "--max-depth" && more)
       maxDepth = std::atoi(argv[++i]);
     else if (a == "--at-samples" && more)
@@ -91,7 +96,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (scenePath.empty() || referencePath.empty()) {
+  if (scenePath.empty() || (referencePath.empty() && directSpp == 0)) {
     std::fprintf(stderr, "penumbra_bench_mdnet_scene: a scene and --reference are needed\n");
     return 2;
   }
@@ -101,7 +106,29 @@ int main(int argc, char** argv) {
     if (maxDepth >= 0) scene.settings.maxDepth = maxDepth;
     const auto prepared = prepareScene(std::move(scene));
     const int w = prepared->scene.settings.width, h = prepared->scene.settings.height;
-    const Image reference = readImage(referencePath);
+    // With --direct N: everything is about the first vertex's next-event part, whose
+    // reference is its mean over N samples a pixel of another seed.
+    Image reference(w, h);
+    if (directSpp > 0) {
+      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        PixelSampler sampler(SamplerKind::LowDiscrepancy, seed + 1000, uint32_t(directSpp));
+        PathCounters counters;
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < w; ++x) {
+            glm::dvec3 sum(0.0);
+            for (int i = 0; i < directSpp; ++i) {
+              sampler.startSample(x, y, uint32_t(i));
+              PathFeatures f;
+              traceRadiance(*prepared, sampler.cameraSample(prepared->usesLens, prepared->usesTime),
+                            sampler, counters, &f);
+              if (isFinite(f.directLight)) sum += glm::dvec3(f.directLight);
+            }
+            reference.pixels[size_t(y) * size_t(w) + size_t(x)] = vec3(sum / double(directSpp));
+          }
+      });
+    } else {
+      reference = readImage(referencePath);
+    }
     if (reference.width != w || reference.height != h)
       throw std::runtime_error(referencePath + ": not " + std::to_string(w) + "x" +
                                std::to_string(h));
@@ -135,6 +162,7 @@ int main(int argc, char** argv) {
             t.radiance = L;
             t.albedo = f.albedo;
             t.emission = f.emission;
+            t.direct = f.directLight;
             pixels[size_t(y) * size_t(w) + size_t(x)].push_back(t);
           }
     });
@@ -146,7 +174,8 @@ int main(int argc, char** argv) {
     for (size_t p = 0; p < pixels.size(); ++p) {
       glm::dvec3 l(0.0), a(0.0), e(0.0);
       for (const Traced& t : pixels[p])
-        l += glm::dvec3(t.radiance), a += glm::dvec3(t.albedo), e += glm::dvec3(t.emission);
+        l += glm::dvec3(directSpp > 0 ? t.direct : t.radiance), a += glm::dvec3(t.albedo),
+            e += glm::dvec3(directSpp > 0 ? vec3(0.0f) : t.emission);
       const double n = std::max<double>(1.0, double(pixels[p].size()));
       box.pixels[p] = vec3(l / n), albedo.pixels[p] = vec3(a / n), emission.pixels[p] = vec3(e / n);
     }
@@ -168,7 +197,9 @@ int main(int argc, char** argv) {
               std::copy(t.in, t.in + mdnet::kMaxInputs, in);
               in[0] += float(dx), in[1] += float(dy);
               batch.inputs.insert(batch.inputs.end(), in, in + config.inputs);
-              batch.targets.push_back((t.radiance - t.emission) / (t.albedo + epsilon));
+              batch.targets.push_back(directSpp > 0
+                                          ? t.direct / (t.albedo + epsilon)
+                                          : (t.radiance - t.emission) / (t.albedo + epsilon));
             }
           }
         batch.offsets.push_back(uint32_t(batch.targets.size()));
@@ -191,8 +222,8 @@ int main(int argc, char** argv) {
         // and emission: no product of means where albedo and lighting change together.
         glm::dvec3 sum(0.0);
         for (const Traced& t : pixels[p])
-          sum +=
-              glm::dvec3(t.emission + (t.albedo + epsilon) * mdnet::predict(nets[p], config, t.in));
+          sum += glm::dvec3((directSpp > 0 ? vec3(0.0f) : t.emission) +
+                            (t.albedo + epsilon) * mdnet::predict(nets[p], config, t.in));
         network.pixels[p] = vec3(sum / double(pixels[p].size()));
       } else {
         const vec3 f = mdnet::average(nets[p], config, nodes);

@@ -177,11 +177,14 @@ struct PendingShadow {
   Ray ray;
   float tMax = 0;
   vec3 contribution{0.0f};
+  vec3* record = nullptr;  // also adds the contribution here (a path feature)
   void trace(const Accel& accel, PathCounters& counters, vec3& radiance) {
     if (!active) return;
     active = false;
     ++counters.rays;
-    if (!accel.occluded(ray, 0.0f, tMax)) radiance += contribution;
+    if (accel.occluded(ray, 0.0f, tMax)) return;
+    radiance += contribution;
+    if (record) *record += contribution;
   }
 };
 }  // namespace
@@ -351,6 +354,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
           // A punctual light cannot be hit by a BSDF sample: its sample takes all the weight.
           const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdfPdf(bsdf, wo, wi));
           shadow.contribution = throughput * f * ls.radiance * (weight / ls.pdf);
+          shadow.record = recordLight ? &features->directLight : nullptr;
         }
       }
     } else {

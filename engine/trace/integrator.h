@@ -64,6 +64,9 @@ struct PathFeatures {
   // and where it landed in the object's chart (scene/lights.h; (0.5, 0.5) without one).
   int lightObject = -1;
   glm::vec2 lightChart{0.5f};
+  // What that light sample added to the radiance (its next-event estimate, MIS-weighted, with
+  // the camera's specular chain's throughput): the part the light chart explains.
+  vec3 directLight{0.0f};
 };
 
 // Radiance arriving through `sample`; the integrator's own dimensions come from

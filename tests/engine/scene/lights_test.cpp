@@ -150,6 +150,7 @@ TEST(LightChart, PathsRecordTheirFirstVertexsLightSampleAsAFeature) {
   PixelSampler sampler(SamplerKind::LowDiscrepancy, 3, 64);
   PathCounters counters;
   int lamp = 0, other = 0;
+  bool directSeen = false;
   for (int i = 0; i < 64; ++i) {
     sampler.startSample(4, 5, uint32_t(i));
     const CameraSample cs = sampler.cameraSample(false, false);
@@ -166,8 +167,15 @@ TEST(LightChart, PathsRecordTheirFirstVertexsLightSampleAsAFeature) {
     EXPECT_GE(features.lightChart.y, 0.0f);
     EXPECT_LE(features.lightChart.y, 1.0f);
     (features.lightObject == 1 ? lamp : other)++;
+    // The light sample's part of the radiance: some of it, never more (all terms are >= 0).
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(features.directLight[c], 0.0f);
+      EXPECT_LE(features.directLight[c], withFeatures[c] * (1 + 1e-5f));
+    }
+    directSeen = directSeen || features.directLight.x > 0;
   }
   EXPECT_GT(lamp, 0);
+  EXPECT_TRUE(directSeen) << "the floor is lit by the lamp and the point light";
   // A path that escapes at once records no light: the camera turned to the sky.
   Camera camera = prepared->scene.camera;
   camera.lookAt = camera.eye + vec3(0, 1, 0);
