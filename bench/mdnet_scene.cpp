@@ -8,7 +8,7 @@
 //
 // Usage: penumbra_bench_mdnet_scene scene.json --reference ref.exr [--spp 16] [--size WxH]
 //        [--epochs 200] [--hidden 8] [--radius 2] [--own 0|1] [--at-samples 0|1] [--seed S]
-//        [--max-depth D] [--direct N] [--bp bp.exr] [--out net.pfm]
+//        [--max-depth D] [--direct N [--per-light 1]] [--bp bp.exr] [--out net.pfm]
 // --direct N scores the first vertex's next-event part alone (PathFeatures::directLight), the
 // part the light chart explains, against its own mean over N samples a pixel of another seed.
 // --at-samples 1 averages the network at the pixel's own samples' points, each remodulated by
@@ -38,6 +38,7 @@ double now() {
 struct Traced {
   float in[mdnet::kMaxInputs];  // offset in the pixel (2), then lens (2), time, light chart (2)
   vec3 radiance, albedo, emission, direct;
+  int lightObject = -1;
 };
 
 double mse(const Image& a, const Image& ref) {
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
   int spp = 16, epochs = 200, hidden = 8, radius = 2, width = 0, height = 0, maxDepth = -1;
   bool own = true, atSamples = false;
   int directSpp = 0;
+  bool perLight = false;
   uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -73,6 +75,8 @@ int main(int argc, char** argv) {
       hidden = std::clamp(std::atoi(argv[++i]), 1, mdnet::kMaxHidden);
     else if (a == "--radius" && more)
       radius = std::clamp(std::atoi(argv[++i]), 1, 4);
+    else if (a == "--per-light" && more)
+      perLight = std::atoi(argv[++i]) != 0;
     else if (a == "--direct" && more)
       directSpp = std::max(0, std::atoi(argv[++i]));
     else if (a == "--max-depth" && more)
@@ -163,6 +167,7 @@ int main(int argc, char** argv) {
             t.albedo = f.albedo;
             t.emission = f.emission;
             t.direct = f.directLight;
+            t.lightObject = f.lightObject;
             pixels[size_t(y) * size_t(w) + size_t(x)].push_back(t);
           }
     });
@@ -185,26 +190,46 @@ int main(int argc, char** argv) {
     config.inputs = inputs;
     config.hidden = hidden;
     config.epochs = epochs;
+    // With --per-light (and --direct), one network per pixel and light object, on the samples
+    // that chose that light, weighted by the share of the neighbourhood's samples that did.
+    std::vector<int> objects{-2};  // -2: all samples in one network
+    if (perLight && directSpp > 0) {
+      objects.clear();
+      for (const auto& px : pixels)
+        for (const Traced& t : px)
+          if (t.lightObject >= 0 &&
+              std::find(objects.begin(), objects.end(), t.lightObject) == objects.end())
+            objects.push_back(t.lightObject);
+    }
+    const size_t perPixel = objects.size();
+    std::vector<float> share(pixels.size() * perPixel, 0.0f);
     mdnet::Batch batch;
     for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        for (int dy = -radius; dy <= radius; ++dy)
-          for (int dx = -radius; dx <= radius; ++dx) {
-            const int qx = x + dx, qy = y + dy;
-            if (qx < 0 || qy < 0 || qx >= w || qy >= h || (!own && dx == 0 && dy == 0)) continue;
-            for (const Traced& t : pixels[size_t(qy) * size_t(w) + size_t(qx)]) {
-              float in[mdnet::kMaxInputs];
-              std::copy(t.in, t.in + mdnet::kMaxInputs, in);
-              in[0] += float(dx), in[1] += float(dy);
-              batch.inputs.insert(batch.inputs.end(), in, in + config.inputs);
-              batch.targets.push_back(directSpp > 0
-                                          ? t.direct / (t.albedo + epsilon)
-                                          : (t.radiance - t.emission) / (t.albedo + epsilon));
+      for (int x = 0; x < w; ++x)
+        for (size_t o = 0; o < perPixel; ++o) {
+          size_t chosen = 0, all = 0;
+          for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx) {
+              const int qx = x + dx, qy = y + dy;
+              if (qx < 0 || qy < 0 || qx >= w || qy >= h || (!own && dx == 0 && dy == 0)) continue;
+              for (const Traced& t : pixels[size_t(qy) * size_t(w) + size_t(qx)]) {
+                ++all;
+                if (objects[o] != -2 && t.lightObject != objects[o]) continue;
+                ++chosen;
+                float in[mdnet::kMaxInputs];
+                std::copy(t.in, t.in + mdnet::kMaxInputs, in);
+                in[0] += float(dx), in[1] += float(dy);
+                batch.inputs.insert(batch.inputs.end(), in, in + config.inputs);
+                batch.targets.push_back(directSpp > 0
+                                            ? t.direct / (t.albedo + epsilon)
+                                            : (t.radiance - t.emission) / (t.albedo + epsilon));
+              }
             }
-          }
-        batch.offsets.push_back(uint32_t(batch.targets.size()));
-      }
-    std::vector<mdnet::Net> nets(size_t(w) * size_t(h));
+          batch.offsets.push_back(uint32_t(batch.targets.size()));
+          share[(size_t(y) * size_t(w) + size_t(x)) * perPixel + o] =
+              all ? float(chosen) / float(all) : 0.0f;
+        }
+    std::vector<mdnet::Net> nets(size_t(w) * size_t(h) * perPixel);
     std::vector<mdnet::Net*> pointers;
     for (size_t p = 0; p < nets.size(); ++p) {
       mdnet::init(nets[p], config, p);
@@ -222,11 +247,15 @@ int main(int argc, char** argv) {
         // and emission: no product of means where albedo and lighting change together.
         glm::dvec3 sum(0.0);
         for (const Traced& t : pixels[p])
-          sum += glm::dvec3((directSpp > 0 ? vec3(0.0f) : t.emission) +
-                            (t.albedo + epsilon) * mdnet::predict(nets[p], config, t.in));
+          sum +=
+              glm::dvec3((directSpp > 0 ? vec3(0.0f) : t.emission) +
+                         (t.albedo + epsilon) * mdnet::predict(nets[p * perPixel], config, t.in));
         network.pixels[p] = vec3(sum / double(pixels[p].size()));
       } else {
-        const vec3 f = mdnet::average(nets[p], config, nodes);
+        vec3 f(0.0f);
+        for (size_t o = 0; o < perPixel; ++o)
+          f += (perPixel > 1 ? share[p * perPixel + o] : 1.0f) *
+               mdnet::average(nets[p * perPixel + o], config, nodes);
         network.pixels[p] = emission.pixels[p] + (albedo.pixels[p] + epsilon) * f;
       }
       const vec3 dn = network.pixels[p] - reference.pixels[p],
