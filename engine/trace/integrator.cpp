@@ -193,7 +193,6 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
                      const RayDifferentials* differentials, const CameraFrame* approximateFrom) {
   const Mesh& mesh = scene.meshes[hit.meshId];
   const uint32_t* idx = &mesh.indices[3 * size_t(hit.primId)];
-  prefetchSurface(scene, hit);
   vec3 p0, p1, p2;
   trianglePositions(mesh, hit.primId, time, p0, p1, p2);
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;

@@ -90,7 +90,8 @@ struct SurfaceHit {
 };
 // Asks the cache for what surfaceAt(hit) will read: the triangle's vertices' positions,
 // normals and uvs and its material (static meshes). Waits only for the triangle's indices;
-// changes nothing. A caller with other work (a shadow ray) does it in between.
+// changes nothing. A caller with other work (a shadow ray) does it in between; traceRadiance
+// does it for every hit as soon as Embree returns it.
 void prefetchSurface(const Scene& scene, const Hit& hit);
 // With a camera ray's differentials, the hit's footprint for its texture lookups; without
 // them but with the camera, the footprint the camera would give the point

@@ -292,10 +292,16 @@ mdnet::Batch shearedSteps() {
   return batch;
 }
 
-TEST(MdNet, ABatchTrainsEachPixelAsAloneAndAsTheScalarFit) {
+// The networks of the sheared steps: 2 inputs, 150 epochs.
+mdnet::Config stepConfig() {
   mdnet::Config config;
   config.inputs = 2;
   config.epochs = 150;
+  return config;
+}
+
+TEST(MdNet, ABatchTrainsEachPixelAsAloneAndAsTheScalarFit) {
+  const mdnet::Config config = stepConfig();
   const mdnet::Batch batch = shearedSteps();
   const int pixels = batch.pixelCount();
   std::vector<mdnet::Net> batched(static_cast<size_t>(pixels)), scalar(static_cast<size_t>(pixels));
@@ -346,9 +352,7 @@ TEST(MdNet, ABatchTrainsEachPixelAsAloneAndAsTheScalarFit) {
 TEST(MdNet, NarrowerKernelsTrainAsTheWidest) {
   // The SSE kernel (4 lanes), which a CPU without AVX2 runs, and the AVX2 one (8) where the
   // widest here is AVX-512, against the widest.
-  mdnet::Config config;
-  config.inputs = 2;
-  config.epochs = 150;
+  const mdnet::Config config = stepConfig();
   const mdnet::Batch batch = shearedSteps();
   const int pixels = batch.pixelCount();
   auto train = [&](int lanes, std::vector<mdnet::Net>& nets) {
