@@ -46,11 +46,13 @@ void buildAliasTable(const std::vector<double>& weights, double sum, std::vector
 }
 }  // namespace
 
+float equirectU(vec3 d) {
+  const float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
+  return std::clamp(u >= 1.0f ? u - 1.0f : u, 0.0f, 1.0f);
+}
+
 glm::vec2 directionToEquirect(vec3 d) {
-  const float t = std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi;
-  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
-  if (u >= 1.0f) u -= 1.0f;
-  return {std::clamp(u, 0.0f, 1.0f), t};
+  return {equirectU(d), std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi};
 }
 
 vec3 equirectToDirection(glm::vec2 ut) {
@@ -225,10 +227,14 @@ vec3 EnvironmentLight::radiance(vec3 direction, float* pdf) const {
 
 float EnvironmentLight::cellPdf(glm::vec2 ut) const {
   if (black()) return 0.0f;
+  return pdfs_[cellAt(ut)];
+}
+
+size_t EnvironmentLight::cellAt(glm::vec2 ut) const {
   // The texel under the coordinates; rows are equal steps of theta, so t finds the row.
   const int j = std::clamp(int(ut.y * float(height_)), 0, height_ - 1);
   const int i = std::clamp(int(ut.x * float(width_)), 0, width_ - 1);
-  return pdfs_[size_t(j) * size_t(width_) + size_t(i)];
+  return size_t(j) * size_t(width_) + size_t(i);
 }
 
 int EnvironmentLight::rowOf(float u) const {
@@ -292,9 +298,9 @@ void EnvironmentLight::prefetch(glm::vec2 u) const {
 void EnvironmentLight::prefetchDirection(vec3 direction) const {
   if (black() || constant()) return;
   const glm::vec2 ut = directionToEquirect(toMap(direction));
-  const int j = std::clamp(int(ut.y * float(height_)), 0, height_ - 1);
-  const int i = std::clamp(int(ut.x * float(width_)), 0, width_ - 1);
-  __builtin_prefetch(&pdfs_[size_t(j) * size_t(width_) + size_t(i)]);
+  const size_t cell = cellAt(ut);
+  __builtin_prefetch(&pdfs_[cell]);
+  const int j = int(cell / size_t(width_)), i = int(cell % size_t(width_));
   // The bilinear lookup reads this row and the one nearer the coordinates' side of it.
   const int other =
       std::clamp(ut.y * float(height_) - float(j) < 0.5f ? j - 1 : j + 1, 0, height_ - 1);

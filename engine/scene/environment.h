@@ -41,6 +41,8 @@ namespace penumbra {
 
 // Map coordinates (u, t) in [0,1]^2 (t from the top row) of a unit direction, and back.
 glm::vec2 directionToEquirect(vec3 direction);
+// Its u alone (the azimuth), without the polar angle's arc cosine.
+float equirectU(vec3 direction);
 vec3 equirectToDirection(glm::vec2 ut);
 
 // What a scene says about its environment (Scene::environment).
@@ -106,6 +108,7 @@ class EnvironmentLight {
   vec3 toWorld(vec3 map) const;
   vec3 lookup(float u, float t) const;  // bilinear, map coordinates, strength applied
   float cellPdf(glm::vec2 ut) const;    // the pdf of the texel at map coordinates
+  size_t cellAt(glm::vec2 ut) const;    // that texel's index, row by row
 
   std::shared_ptr<const Image> map_;
   float strength_ = 1.0f;

@@ -159,9 +159,7 @@ EmitterChart makeEmitterChart(const Mesh& mesh, const std::vector<double>& weigh
 }  // namespace
 
 glm::vec2 directionChart(vec3 d) {
-  float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
-  if (u >= 1.0f) u -= 1.0f;
-  return {std::clamp(u, 0.0f, 1.0f), std::clamp(0.5f * (1.0f - d.y), 0.0f, 1.0f)};
+  return {equirectU(d), std::clamp(0.5f * (1.0f - d.y), 0.0f, 1.0f)};
 }
 
 glm::vec2 emitterChartAt(const EmitterChart& chart, vec3 point) {
