@@ -71,11 +71,10 @@ nlohmann::json methodRunStats(const MethodSpec& spec, const std::string& preset,
   j["phases"] = {{"trace", snap.times.trace},
                  {"train", snap.times.train},
                  {"select", snap.times.select},
-                 {"reconstruct", snap.times.reconstruct}};
+                 {"reconstruct", snap.times.reconstruct},
+                 {"network", snap.times.network}};
   j["adaptive_overhead"] =
-      snap.times.total() > 0
-          ? (snap.times.train + snap.times.select + snap.times.reconstruct) / snap.times.total()
-          : 0.0;
+      snap.times.total() > 0 ? (snap.times.total() - snap.times.trace) / snap.times.total() : 0.0;
   j["memory_bytes_per_pixel"] = double(memoryBytes) / pixels;
   j["config"] = paramsJson(spec.method().params(), spec.config);
   addMethodFigures(j, snap, false);

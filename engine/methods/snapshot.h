@@ -160,7 +160,8 @@ struct PhaseTimes {
   double train = 0;        // network (re)training and the bias estimate
   double select = 0;       // ranking pixels, slice choice, candidate scoring
   double reconstruct = 0;  // pixel estimates and the filter
-  double total() const { return trace + train + select + reconstruct; }
+  double network = 0;      // the networks that reconstruct: their training and their candidates
+  double total() const { return trace + train + select + reconstruct + network; }
 };
 
 enum class SnapshotSource : uint8_t {

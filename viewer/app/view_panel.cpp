@@ -169,8 +169,8 @@ void progress(const RenderSession& session, const Snapshot& s) {
               double(s.tracedSamples) / pixels);
   const double mrays = s.seconds > 0 ? double(s.rays) / s.seconds * 1e-6 : 0.0;
   ImGui::Text("%.2f s, %.2f Mrays/s", s.seconds, mrays);
-  ImGui::Text("trace %.2f  train %.2f  select %.2f  reconstruct %.2f s", s.times.trace,
-              s.times.train, s.times.select, s.times.reconstruct);
+  ImGui::Text("trace %.2f  train %.2f  select %.2f  reconstruct %.2f  network %.2f s",
+              s.times.trace, s.times.train, s.times.select, s.times.reconstruct, s.times.network);
   if (s.nonFiniteSamples)
     ImGui::Text("%llu NaN/inf samples dropped", (unsigned long long)s.nonFiniteSamples);
 }

@@ -62,6 +62,12 @@ class ConsistentMethod final : public ProgressiveMethod {
         setSize_(shape.openEnded ? 64u : uint32_t(shape.spp)),
         coarseSteps_(coarseSteps(shape, s_.coarseSpp)) {
     if (usesNetworks()) trainedAt_.assign(s_.pixelCount, 0);
+    if (config.correctsWithNetworks()) {
+      NetReconConfig nc = config.netRecon;
+      nc.hidden = config.network.hidden;
+      nets_ =
+          std::make_unique<NetRecon>(s_.width, s_.height, prepared.usesLens, prepared.usesTime, nc);
+    }
     // Only the noise threshold refreshes the filtered image's error estimate.
     if (shape.noiseThreshold > 0) {
       errorAtReconstruction_.assign(s_.pixelCount, 0.0f);
@@ -174,6 +180,8 @@ class ConsistentMethod final : public ProgressiveMethod {
   int coarseSppDone_ = 0;
   // The coarse samples the reservoirs keep once the tone map is known (only with networks).
   std::vector<std::vector<TracedSample>> coarseTraced_;
+  // With --networks 1: the networks that correct the samples.
+  std::unique_ptr<NetRecon> nets_;
 };
 
 template <class T, class Allocator>
@@ -182,9 +190,10 @@ size_t bytesOf(const std::vector<T, Allocator>& v) {
 }
 
 size_t ConsistentMethod::memoryBytes() const {
-  size_t bytes = s_.memoryBytes() + film_.memoryBytes() + bytesOf(sliceDrawn_) +
-                 bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) + bytesOf(addedLastRound_) +
-                 bytesOf(errorAtReconstruction_) + bytesOf(countAtReconstruction_);
+  size_t bytes = s_.memoryBytes() + film_.memoryBytes() + (nets_ ? nets_->memoryBytes() : 0) +
+                 bytesOf(sliceDrawn_) + bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) +
+                 bytesOf(addedLastRound_) + bytesOf(errorAtReconstruction_) +
+                 bytesOf(countAtReconstruction_);
   if (lastReconstruction_) {
     const recon::DenoiseResult& r = *lastReconstruction_;
     bytes += bytesOf(r.output.pixels) + bytesOf(r.scale) + bytesOf(r.mseEstimate) +
@@ -228,7 +237,10 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
       ++chunk.nonFinite;
       continue;
     }
-    film_.add(p, L, features, slice);
+    if (nets_) nets_->record(p, px, py, cs, L, features);
+    // With a network, the film takes the sample less the network's part of it (a control
+    // variate: methods/bp/net_recon.h).
+    film_.add(p, nets_ ? L - nets_->correction(p, px, py, cs, features) : L, features, slice);
     if (!usesNetworks()) continue;  // the reservoirs only feed the networks
     if (coarse)
       coarse->push_back({cs, L});
@@ -380,6 +392,11 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
 }
 
 void ConsistentMethod::trainDue(const std::atomic<bool>* cancel) {
+  if (nets_) {
+    const auto start = Clock::now();
+    nets_->train(film_, cancel);
+    s_.times.network += secondsSince(start);
+  }
   if (!usesNetworks()) return;
   const auto start = Clock::now();
   // Every pixel due this round, in pixel order: one list, so the kernel fills its SIMD lanes
@@ -654,6 +671,17 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
     snap->addMap(maps::Prediction, "prediction I'", std::move(prediction), MapLegend::rgb());
     const float erTop = std::max(1e-3f, finiteMax(er));
     snap->addMap(maps::NetworkError, "er", std::move(er), MapLegend::sequential(0.0f, erTop));
+  }
+  if (nets_) {
+    snap->addStat("network_pixels", double(nets_->correctingPixels()));
+    snap->addStat("network_fits", double(nets_->fits()));
+    if (snap->withMaps && !usesNetworks()) {
+      // Where a network corrects: its held-out error over the pixel's variance (0: none).
+      std::vector<float> heldOut = nets_->heldOutMap(), corrects = nets_->trainedMap();
+      for (size_t p = 0; p < s_.pixelCount; ++p) heldOut[p] *= corrects[p];
+      snap->addMap(maps::NetworkError, "network held-out error / variance (0: no network)",
+                   std::move(heldOut), MapLegend::sequential(0.0f, 1.0f));
+    }
   }
   addSelectedMap(*snap, s_.selected);
   std::vector<uint32_t> kept(s_.pixelCount);

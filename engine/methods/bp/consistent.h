@@ -5,6 +5,7 @@
 #pragma once
 
 #include "methods/bp/config.h"
+#include "methods/bp/net_recon.h"
 #include "methods/error_allocation.h"
 #include "methods/method.h"
 #include "methods/progressive.h"
@@ -34,6 +35,11 @@ struct BpConsistentConfig : BpCommonConfig {
   // equal time the networks' indicator costs more than it gains on every shipped scene, so the
   // default leaves it off; bp:network-weight=1 is the ablation that shows it.
   float networkWeight = 0.0f;
+  // 1: networks fitted to the neighbours' samples over their dimensions correct the samples
+  // of the pixels whose samples vary most (methods/bp/net_recon.h, a control variate); 0:
+  // none. (network-weight's indicator is apart.)
+  int networks = 0;
+  bp::NetReconConfig netRecon;
   // A pixel's error is its raw relMSE plus this x its neighbourhood's raw MSE over the image's
   // mean value squared: the sum of the two objectives, so bright noisy pixels (an emitter's
   // edge) are not starved by the relative measure alone. At 16 spp cornell's MSE fell from
@@ -47,7 +53,10 @@ struct BpConsistentConfig : BpCommonConfig {
   // nothing (docs/bp-method.md).
   bool sliceSteering = false;
 
+  // The paper's per-pixel networks as an indicator of the allocation (network-weight > 0).
   bool usesNetworks() const { return networkWeight > 0; }
+  // The networks that correct the samples (--networks 1).
+  bool correctsWithNetworks() const { return networks != 0; }
   // N0: coarseSpp, or an eighth of spp (allocation has more to spend), at least 4, rounded up
   // to a power of two (4 open-ended).
   int effectiveCoarseSpp(const RunShape& shape) const;

@@ -31,6 +31,23 @@ const ParamTable<BpConsistentConfig>& bpConsistentParams() {
         .real("retrain-growth", "retrain growth",
               "Retrain a pixel's network once its samples grew by this factor",
               [](auto& c) -> auto& { return c.retrainGrowth; }, 1, 1e6, {1, 4})
+        .integer("networks", "networks",
+                 "1: networks fitted to the neighbours' samples over their offsets, lens, time and "
+                 "light sample correct the samples of the pixels that vary most (a control "
+                 "variate); 0: none",
+                 [](auto& c) -> auto& { return c.networks; }, 0, 1, {0, 1})
+        .integer("reach", "network reach",
+                 "A network fits the samples of its pixel's (2 reach + 1)^2 neighbourhood",
+                 [](auto& c) -> auto& { return c.netRecon.reach; }, 1, 4, {1, 4})
+        .real("network-share", "network share",
+              "At most this share of the pixels train a network: those whose samples vary most",
+              [](auto& c) -> auto& { return c.netRecon.share; }, 0, 1, {0, 0.2f})
+        .integer("network-samples", "network samples",
+                 "Samples a pixel keeps for its neighbours' networks",
+                 [](auto& c) -> auto& { return c.netRecon.capacity; }, 1, 1024, {4, 64})
+        .integer("network-epochs", "network epochs",
+                 "Epochs of a network's first training (a warm retraining takes half)",
+                 [](auto& c) -> auto& { return c.netRecon.epochs; }, 1, 100000, {10, 400})
         .real("network-weight", "network weight",
               "A pixel's estimated error is scaled by 1 + this x its network bias (0: the "
               "networks are not trained)",

@@ -1,0 +1,118 @@
+// The networks as a control variate (issue 26, `--networks 1`): where a pixel's samples vary
+// most, a small network (methods/bp/mdnet.h) is fitted to its neighbours' samples over their
+// offsets, lens, time and light-sample coordinates; each later sample of the pixel then enters
+// the film less the network's prediction for it, plus the network's mean over the pixel
+// (regression-based Monte Carlo integration, Salauen et al. 2022).
+//  - Unbiased: the network never saw the pixel's own samples (each pixel's samples come from
+//    its own scramble), so E[f(x) - mean f] = 0 over the pixel's samples. Its mean is taken
+//    over the pixel's footprint (a fixed Halton set) paired with the other dimensions of the
+//    neighbours' samples (their distribution, e.g. the light's sampling density).
+//  - The film's mean, variance and halves then describe the corrected samples: where the
+//    network explains how a pixel's samples vary (a penumbra along the light's position, a
+//    moving or defocused edge), their variance falls, and the reconstruction's SURE sees it.
+//    A network that explains nothing only adds noise: it corrects the pixel's next samples only
+//    while its error on the pixel's kept samples (which it was not fitted on) is at most
+//    `maxHeldOut` of their variance. (Under the LD sampler those earlier samples and the next
+//    ones share one scramble; the gate's dependence on them is the one departure from strict
+//    independence.)
+//  - The samples: each pixel that may feed a network keeps its first `capacity` samples with
+//    their dimensions (half precision) and demodulated radiance, (L - emission) / (albedo +
+//    0.01) each by its own first hit; the correction is remodulated by the sample's albedo.
+//  - Which pixels train: the `share` of pixels whose samples vary most relative to their mean
+//    (the film's per-sample variance of the filtered part over its mean squared); a pixel whose
+//    network corrects keeps it. Only their neighbourhoods keep samples.
+//  - A network retrains (warm) once its neighbourhood's samples grew by `growth`.
+// Everything depends only on the samples and the configuration, never on the thread count.
+#pragma once
+
+#include "core/image.h"
+#include "methods/bp/mdnet.h"
+#include "methods/film.h"
+#include "methods/recon/denoise.h"
+#include "scene/camera.h"
+#include "trace/integrator.h"
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra::bp {
+
+struct NetReconConfig {
+  int reach = 2;            // the neighbourhood's radius: (2 reach + 1)^2 pixels
+  float share = 0.03f;      // of the image's pixels, at most, train a network
+  int capacity = 16;        // samples kept per pixel
+  int hidden = 8;           // sigmoid units
+  int epochs = 100;         // a first training; a warm retraining takes half
+  float growth = 1.5f;      // retrain once the neighbourhood's samples grew this much
+  float maxHeldOut = 0.5f;  // a network corrects while its held-out error is at most this
+  int nodes = 64;           // Halton points the network is averaged over
+};
+
+// One kept sample: its inputs as half floats (offset from its pixel's centre, lens u, v, time,
+// light chart s, t; each centred on 0) and its demodulated radiance.
+struct NetSample {
+  uint16_t in[mdnet::kMaxInputs];
+  float target[3];
+};
+
+class NetRecon {
+ public:
+  NetRecon(int width, int height, bool lens, bool time, const NetReconConfig& config);
+
+  // Keeps a sample of pixel (px, py) (index p) when that pixel stores and has room. Pixels may
+  // be recorded from several threads, each pixel by one at a time.
+  void record(size_t p, int px, int py, const CameraSample& cs, vec3 radiance,
+              const PathFeatures& f);
+
+  // Chooses the pixels that train from the film, stops keeping samples outside their
+  // neighbourhoods, and (re)trains the networks that are due. Returns false when cancelled.
+  bool train(const Film& film, const std::atomic<bool>* cancel);
+
+  // What the film takes off a sample of pixel (px, py) (index p): the network's prediction for
+  // it less its mean over the pixel, remodulated by the sample's albedo; 0 without a network
+  // that corrects.
+  vec3 correction(size_t p, int px, int py, const CameraSample& cs, const PathFeatures& f) const;
+
+  // Per pixel: 1 where a network corrects the samples, else 0.
+  std::vector<float> trainedMap() const;
+  // Per pixel: the network's held-out error on the pixel's own samples over their variance
+  // (0 where none trained; below 1: it explains some of the pixel's spread).
+  std::vector<float> heldOutMap() const;
+
+  int inputs() const { return config_.inputs; }
+  size_t trainedPixels() const { return slots_.size() - freeSlots_.size(); }
+  size_t correctingPixels() const;
+  uint64_t fits() const { return fits_; }
+  size_t memoryBytes() const;
+
+ private:
+  void choose(const Film& film);
+  // A sample's inputs (config_.inputs floats).
+  void inputsOf(int px, int py, const CameraSample& cs, const PathFeatures& f, float* in) const;
+  // Each due pixel's training inputs and targets (its neighbours' samples).
+  void gather(const std::vector<uint32_t>& due, mdnet::Batch& batch) const;
+  uint32_t neighbourhoodCount(size_t p) const;
+
+  int width_, height_;
+  bool lens_, time_;
+  NetReconConfig settings_;
+  mdnet::Config config_;
+  std::vector<float> nodes_;                  // Halton points, config_.inputs floats each
+  std::vector<std::vector<NetSample>> kept_;  // per pixel
+  std::vector<uint8_t> storing_;              // per pixel: keeps samples
+  std::vector<int32_t> slotOf_;               // per pixel: its network's slot, -1 none
+  struct Slot {
+    mdnet::Net net;
+    uint32_t pixel = 0;
+    uint32_t trainedAt = 0;  // neighbourhood samples at its last training (0: never)
+    vec3 mean{0.0f};         // its mean over the nodes (demodulated)
+    float heldOut = 0;
+    bool corrects = false;
+  };
+  std::vector<Slot> slots_;
+  std::vector<uint32_t> freeSlots_;
+  uint64_t fits_ = 0;
+};
+
+}  // namespace penumbra::bp

@@ -1,0 +1,103 @@
+// The networks as a control variate (methods/bp/net_recon.h) on a synthetic penumbra: the
+// radiance is a step along a shear of the image's x and the light sample's s, so a network
+// fitted on the neighbours' samples over (dx, dy, s, t) predicts each sample of the centre
+// pixel. The corrected samples must keep the pixel's mean (the correction is a control variate:
+// its mean over the pixel is zero) and vary far less than the raw ones.
+#include "methods/bp/net_recon.h"
+
+#include "core/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace penumbra {
+namespace net_recon_test {
+
+constexpr int kSize = 7;  // pixels per side; the centre pixel is (3, 3)
+constexpr int kSpp = 16;
+
+// The penumbra: lit where the light sample's s lies past an edge that moves with the image's x.
+float radianceAt(float imageX, float s) { return s > 0.5f + 0.12f * (imageX - 3.5f) ? 1.0f : 0.0f; }
+
+struct Sample {
+  CameraSample camera;
+  PathFeatures features;
+  vec3 radiance;
+};
+
+Sample draw(int px, int py, Pcg32& rng) {
+  Sample s;
+  s.camera.imageX = float(px) + rng.nextFloat();
+  s.camera.imageY = float(py) + rng.nextFloat();
+  s.features.albedo = vec3(0.5f);
+  s.features.lightObject = 0;
+  s.features.lightChart = {rng.nextFloat(), rng.nextFloat()};
+  s.radiance = vec3(0.5f * radianceAt(s.camera.imageX, s.features.lightChart.x));
+  return s;
+}
+
+TEST(NetRecon, ACorrectedPenumbraKeepsItsMeanAndLosesMostOfItsVariance) {
+  bp::NetReconConfig config;
+  config.share = 1.0f;  // every pixel whose samples vary trains
+  config.epochs = 300;
+  bp::NetRecon nets(kSize, kSize, false, false, config);
+  Film film(kSize, kSize);
+  Pcg32 rng(7, 1);
+  for (int py = 0; py < kSize; ++py)
+    for (int px = 0; px < kSize; ++px)
+      for (int k = 0; k < kSpp; ++k) {
+        const size_t p = size_t(py) * kSize + size_t(px);
+        const Sample s = draw(px, py, rng);
+        nets.record(p, px, py, s.camera, s.radiance, s.features);
+        film.add(p, s.radiance, s.features);
+      }
+  ASSERT_TRUE(nets.train(film, nullptr));
+  const size_t centre = size_t(3) * kSize + 3;
+  ASSERT_EQ(nets.trainedMap()[centre], 1.0f) << "held-out error " << nets.heldOutMap()[centre];
+
+  // Fresh samples of the centre pixel, raw and corrected.
+  double raw = 0, rawSq = 0, corrected = 0, correctedSq = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const Sample s = draw(3, 3, rng);
+    const float r = s.radiance.x;
+    const float c = r - nets.correction(centre, 3, 3, s.camera, s.features).x;
+    raw += r, rawSq += double(r) * r;
+    corrected += c, correctedSq += double(c) * c;
+  }
+  const double rawMean = raw / n, rawVar = rawSq / n - rawMean * rawMean;
+  const double cMean = corrected / n, cVar = correctedSq / n - cMean * cMean;
+  // The exact mean: the lit share of the light over the pixel is 1/2 (the edge passes through
+  // s = 0.5 at the pixel's centre and moves linearly across it), times 0.5.
+  EXPECT_NEAR(rawMean, 0.25, 4.0 * std::sqrt(rawVar / n));
+  // The network's mean over the pixel is taken over the neighbours' samples' light points
+  // (their distribution): its own error is that of a mean of those 24 x 16 samples.
+  const double neighbours = 24.0 * kSpp;
+  EXPECT_NEAR(cMean, 0.25, 4.0 * std::sqrt(rawVar / n + rawVar / neighbours));
+  EXPECT_LT(cVar, 0.3 * rawVar) << "raw variance " << rawVar << ", corrected " << cVar;
+}
+
+TEST(NetRecon, PixelsWithoutSpreadTrainNoNetworkAndAreNotCorrected) {
+  bp::NetReconConfig config;
+  config.share = 1.0f;
+  bp::NetRecon nets(kSize, kSize, false, false, config);
+  Film film(kSize, kSize);
+  Pcg32 rng(3, 1);
+  for (int py = 0; py < kSize; ++py)
+    for (int px = 0; px < kSize; ++px)
+      for (int k = 0; k < kSpp; ++k) {
+        const size_t p = size_t(py) * kSize + size_t(px);
+        Sample s = draw(px, py, rng);
+        s.radiance = vec3(0.3f);  // flat: nothing to explain
+        nets.record(p, px, py, s.camera, s.radiance, s.features);
+        film.add(p, s.radiance, s.features);
+      }
+  ASSERT_TRUE(nets.train(film, nullptr));
+  EXPECT_EQ(nets.trainedPixels(), 0u);
+  const Sample s = draw(3, 3, rng);
+  EXPECT_EQ(nets.correction(size_t(3) * kSize + 3, 3, 3, s.camera, s.features), vec3(0.0f));
+}
+
+}  // namespace net_recon_test
+}  // namespace penumbra
