@@ -378,6 +378,7 @@ CompareTask runTask(const CompareFlags& flags, const Entry& e, uint64_t seed,
   run.train = snap->times.train;
   run.select = snap->times.select;
   run.reconstruct = snap->times.reconstruct - outcome.measuringReconstruct;
+  run.network = snap->times.network;
   if (!flags.noCurve) {
     run.curve = outcome.curve;
     run.curve.push_back(

@@ -57,7 +57,8 @@ Json runToJson(const report::MethodRun& r) {
   j["phases"] = {{"trace", number(r.trace)},
                  {"train", number(r.train)},
                  {"select", number(r.select)},
-                 {"reconstruct", number(r.reconstruct)}};
+                 {"reconstruct", number(r.reconstruct)},
+                 {"network", number(r.network)}};
   j["curve"] = Json::array();
   for (const report::CurvePoint& p : r.curve)
     j["curve"].push_back({{"checkpoint", p.checkpoint},
@@ -87,6 +88,7 @@ report::MethodRun runFromJson(const Json& j) {
   r.train = number(ph.at("train"));
   r.select = number(ph.at("select"));
   r.reconstruct = number(ph.at("reconstruct"));
+  r.network = number(ph.at("network"));
   for (const Json& p : j.at("curve"))
     r.curve.push_back({p.at("checkpoint").get<int>(), number(p.at("seconds")), number(p.at("mse")),
                        number(p.at("rel_mse")), number(p.at("tone_mapped_mse")),

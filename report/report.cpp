@@ -33,7 +33,7 @@ namespace penumbra::report {
 namespace detail {
 
 // ---- Metrics table ------------------------------------------------------------------------
-const std::array<Metric, 12> kMetrics = {{
+const std::array<Metric, 13> kMetrics = {{
     {"mse", [](const MethodRun& r) { return r.metrics.mse; }, Better::Lower},
     {"rel_mse", [](const MethodRun& r) { return r.metrics.relMse; }, Better::Lower},
     {"tone_mapped_mse", [](const MethodRun& r) { return r.metrics.toneMappedMse; }, Better::Lower},
@@ -45,6 +45,7 @@ const std::array<Metric, 12> kMetrics = {{
     {"train", [](const MethodRun& r) { return r.train; }, Better::Unranked},
     {"select", [](const MethodRun& r) { return r.select; }, Better::Unranked},
     {"reconstruct", [](const MethodRun& r) { return r.reconstruct; }, Better::Unranked},
+    {"network", [](const MethodRun& r) { return r.network; }, Better::Unranked},
     {"speckles", [](const MethodRun& r) { return r.speckleShare; }, Better::Lower},
 }};
 
@@ -476,13 +477,13 @@ void writeImages(const fs::path& dir, Prepared& p) {
 std::string resultsCsv(const CompareReport& r) {
   std::string csv =
       "label,seed,spp,kept_spp,traced_spp,mse,rel_mse,tone_mapped_mse,psnr,seconds,trace,train,"
-      "select,reconstruct\n";
+      "select,reconstruct,network\n";
   for (const MethodResult& m : r.methods)
     for (const MethodRun& run : m.runs) {
       csv += csvField(m.label) + "," + std::to_string(run.seed) + "," + std::to_string(m.spp);
       for (double v : {run.keptSpp, run.tracedSpp, run.metrics.mse, run.metrics.relMse,
                        run.metrics.toneMappedMse, run.metrics.psnr, run.seconds, run.trace,
-                       run.train, run.select, run.reconstruct})
+                       run.train, run.select, run.reconstruct, run.network})
         csv += ',', csv += exact(v);
       csv += "\n";
     }

@@ -44,6 +44,7 @@ struct MethodRun {
   double keptSpp = 0, tracedSpp = 0;
   double seconds = 0;                                        // total wall time
   double trace = 0, train = 0, select = 0, reconstruct = 0;  // phase times, seconds
+  double network = 0;  // bp --networks 1: the networks' training and correction, seconds
   // Speckles: the share of pixels whose relative squared error exceeds the 99.9th percentile
   // of the first method's (the same seed); NaN where it was not measured.
   double speckleShare = NAN;

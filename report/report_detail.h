@@ -28,7 +28,7 @@ struct Metric {
   Better better;
 };
 
-extern const std::array<Metric, 12> kMetrics;  // defined in report.cpp
+extern const std::array<Metric, 13> kMetrics;  // defined in report.cpp
 
 enum MetricIndex {
   kMse,

@@ -40,7 +40,7 @@ check "results.json, report.md and report.html are the local ones but for the ti
   "$work/local/report" "$work/farm/report" <<'PY'
 import json, re, sys
 a, b = sys.argv[1:3]
-TIMES = ("seconds", "trace", "train", "select", "reconstruct")
+TIMES = ("seconds", "trace", "train", "select", "reconstruct", "network")
 def strip(x):
     if isinstance(x, dict):
         return {k: strip(v) for k, v in x.items() if k not in TIMES}

@@ -59,6 +59,7 @@ MethodRun run(uint64_t seed, double mse, double seconds) {
   r.train = seconds / 4;
   r.select = seconds / 8;
   r.reconstruct = seconds / 8;
+  r.network = seconds / 16;
   return r;
 }
 
@@ -278,7 +279,7 @@ TEST(ReportWrite, CsvHasOneRowPerRun) {
   ASSERT_EQ(rows.size(), 5u);
   EXPECT_EQ(rows[0],
             "label,seed,spp,kept_spp,traced_spp,mse,rel_mse,tone_mapped_mse,psnr,seconds,trace,"
-            "train,select,reconstruct");
+            "train,select,reconstruct,network");
   const std::vector<std::string> header = splitCsv(rows[0]);
   const auto column = [&](const std::vector<std::string>& row, const std::string& name) {
     for (size_t i = 0; i < header.size(); ++i)
@@ -305,6 +306,7 @@ TEST(ReportWrite, CsvHasOneRowPerRun) {
     EXPECT_DOUBLE_EQ(std::stod(column(row, "seconds")), secs[i]);
     EXPECT_DOUBLE_EQ(std::stod(column(row, "trace")), secs[i] / 2);
     EXPECT_DOUBLE_EQ(std::stod(column(row, "reconstruct")), secs[i] / 8);
+    EXPECT_DOUBLE_EQ(std::stod(column(row, "network")), secs[i] / 16);
   }
 }
 

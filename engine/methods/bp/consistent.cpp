@@ -727,6 +727,19 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
     std::snprintf(line, sizeof line, "net  I'  %.3f %.3f %.3f", net.x, net.y, net.z);
     in.addValue("I'", {net.x, net.y, net.z}, line, maps::Prediction);
   }
+  if (nets_) {
+    const NetRecon::PixelNetwork net = nets_->pixelNetwork(p);
+    if (!net.trained)
+      std::snprintf(line, sizeof line, "no network (%u samples kept for the neighbours')",
+                    net.kept);
+    else
+      std::snprintf(line, sizeof line,
+                    "network %s: held-out error %.2f of the variance (on its %u kept samples), "
+                    "fitted on %u neighbours' samples, mean %.3g %.3g %.3g",
+                    net.corrects ? "corrects its samples" : "does not correct (error too high)",
+                    net.heldOut, net.kept, net.samples, net.mean.x, net.mean.y, net.mean.z);
+    in.addValue("network", {float(net.corrects), net.heldOut}, line, maps::NetworkError);
+  }
   char reason[200];
   if (s_.rounds <= int(coarseSteps_.size()))
     std::snprintf(reason, sizeof reason, "coarse pass: %u samples", f.count);

@@ -249,6 +249,19 @@ std::vector<float> NetRecon::trainedMap() const {
   return map;
 }
 
+NetRecon::PixelNetwork NetRecon::pixelNetwork(size_t p) const {
+  PixelNetwork info;
+  info.kept = uint32_t(kept_[p].size());
+  if (slotOf_[p] < 0) return info;
+  const Slot& s = slots_[size_t(slotOf_[p])];
+  info.trained = s.trainedAt > 0;
+  info.corrects = s.corrects;
+  info.heldOut = s.heldOut;
+  info.samples = s.trainedAt;
+  info.mean = s.mean;
+  return info;
+}
+
 size_t NetRecon::correctingPixels() const {
   size_t count = 0;
   for (int32_t slot : slotOf_) count += slot >= 0 && slots_[size_t(slot)].corrects;

@@ -74,6 +74,17 @@ class NetRecon {
   // that corrects.
   vec3 correction(size_t p, int px, int py, const CameraSample& cs, const PathFeatures& f) const;
 
+  // A pixel's network, for the inspector.
+  struct PixelNetwork {
+    bool trained = false;   // it has a network that has been fitted
+    bool corrects = false;  // which corrects its samples
+    float heldOut = 0;      // its error on the pixel's kept samples over their variance
+    uint32_t samples = 0;   // the neighbours' samples it was last fitted on
+    uint32_t kept = 0;      // the pixel's own kept samples
+    vec3 mean{0.0f};        // its mean over the pixel (demodulated)
+  };
+  PixelNetwork pixelNetwork(size_t p) const;
+
   // Per pixel: 1 where a network corrects the samples, else 0.
   std::vector<float> trainedMap() const;
   // Per pixel: the network's held-out error on the pixel's own samples over their variance
