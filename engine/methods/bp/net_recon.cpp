@@ -17,6 +17,8 @@ constexpr float kAlbedoEpsilon = 0.01f;
 constexpr float kMinRelativeSpread = 0.02f;
 // A network needs this many neighbourhood samples for a first training.
 constexpr uint32_t kMinSamples = 24;
+// A network corrects at most one sample per this many it was fitted on (NetRecon::correction).
+constexpr uint32_t kSamplesPerCorrection = 8;
 // Footprint points each neighbourhood sample is paired with for a network's mean.
 constexpr size_t kNodesPerSample = 4;
 // Due networks are fitted in parts of this many pixels, the cancel flag read between them.
@@ -74,11 +76,12 @@ void NetRecon::record(size_t p, int px, int py, const CameraSample& cs, vec3 rad
   kept_[p].push_back(s);
 }
 
-vec3 NetRecon::correction(size_t p, int px, int py, const CameraSample& cs,
-                          const PathFeatures& f) const {
+vec3 NetRecon::correction(size_t p, int px, int py, const CameraSample& cs, const PathFeatures& f) {
   const int32_t slot = slotOf_[p];
   if (slot < 0 || !slots_[size_t(slot)].corrects) return vec3(0.0f);
-  const Slot& s = slots_[size_t(slot)];
+  Slot& s = slots_[size_t(slot)];
+  if (s.corrected >= s.trainedAt / kSamplesPerCorrection) return vec3(0.0f);
+  ++s.corrected;
   float in[mdnet::kMaxInputs] = {};
   inputsOf(px, py, cs, f, in);
   // The same rounding as the stored samples the network was fitted on.
@@ -128,6 +131,7 @@ void NetRecon::choose(const Film& film) {
     s.mean = vec3(0.0f);
     s.heldOut = 0;
     s.corrects = false;
+    s.corrected = 0;
     slotOf_[p] = int32_t(slot);
   }
   // Only the chosen pixels' neighbourhoods keep samples from now on.

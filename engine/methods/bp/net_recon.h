@@ -72,7 +72,11 @@ class NetRecon {
   // What the film takes off a sample of pixel (px, py) (index p): the network's prediction for
   // it less its mean over the pixel, remodulated by the sample's albedo; 0 without a network
   // that corrects.
-  vec3 correction(size_t p, int px, int py, const CameraSample& cs, const PathFeatures& f) const;
+  // A network corrects at most an eighth as many samples as it was fitted on: its mean over the
+  // pixel is itself an average over those samples, whose error every corrected sample carries;
+  // so capped, that error stays below an eighth of the pixel's own variance and its share of
+  // the pixel's mean falls as 1/n once the cap is reached (the estimate stays consistent).
+  vec3 correction(size_t p, int px, int py, const CameraSample& cs, const PathFeatures& f);
 
   // A pixel's network, for the inspector.
   struct PixelNetwork {
@@ -120,6 +124,7 @@ class NetRecon {
     vec3 mean{0.0f};         // its mean over the nodes (demodulated)
     float heldOut = 0;
     bool corrects = false;
+    uint32_t corrected = 0;  // samples it corrected
   };
   std::vector<Slot> slots_;
   std::vector<uint32_t> freeSlots_;
