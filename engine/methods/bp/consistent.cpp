@@ -45,8 +45,6 @@ constexpr double kReconstructionGrowth = 1.5;
 // pixel whose own few samples missed a rare bright path does not look converged, and its count
 // depends little on its own samples (the neighbourhood's bright edge still draws samples).
 constexpr int kAbsoluteRadius = 3;
-// The most of the time the networks' training may take (--networks 1).
-constexpr double kNetworkShare = 0.25;
 
 class ConsistentMethod final : public ProgressiveMethod {
  public:
@@ -394,11 +392,9 @@ void ConsistentMethod::coarsePass(const std::atomic<bool>* cancel) {
 }
 
 void ConsistentMethod::trainDue(const std::atomic<bool>* cancel) {
-  // The networks train in a round only while their phase has taken at most kNetworkShare of
-  // the time so far (issue 26's cost goal); their corrections go on either way.
-  if (nets_ && s_.times.network <= kNetworkShare * s_.times.total()) {
+  if (nets_) {
     const auto start = Clock::now();
-    nets_->train(film_, cancel);
+    nets_->train(film_, totalRays_, cancel);
     s_.times.network += secondsSince(start);
   }
   if (!usesNetworks()) return;

@@ -20,7 +20,7 @@ constexpr uint32_t kMinSamples = 24;
 // A network corrects at most one sample per this many it was fitted on (NetRecon::correction).
 constexpr uint32_t kSamplesPerCorrection = 8;
 // Footprint points each neighbourhood sample is paired with for a network's mean.
-constexpr size_t kNodesPerSample = 4;
+constexpr size_t kNodesPerSample = 1;
 // Due networks are fitted in parts of this many pixels, the cancel flag read between them.
 constexpr size_t kFitPart = 1024;
 
@@ -176,7 +176,7 @@ void NetRecon::gather(const std::vector<uint32_t>& due, mdnet::Batch& batch) con
   }
 }
 
-bool NetRecon::train(const Film& film, const std::atomic<bool>* cancel) {
+bool NetRecon::train(const Film& film, uint64_t rays, const std::atomic<bool>* cancel) {
   choose(film);
   // Due: never trained and enough samples, or grown by `growth` since the last training.
   std::vector<uint32_t> first, again;
@@ -189,10 +189,25 @@ bool NetRecon::train(const Film& film, const std::atomic<bool>* cancel) {
     else if (s.trainedAt > 0 && float(count) >= settings_.growth * float(s.trainedAt))
       again.push_back(slot);
   }
+  // The widest spreads first, ties by pixel.
+  std::vector<float> spread(slots_.size());
+  for (uint32_t slot : first) spread[slot] = relativeSpread(film[slots_[slot].pixel]);
+  std::sort(first.begin(), first.end(), [&](uint32_t a, uint32_t b) {
+    return spread[a] != spread[b] ? spread[a] > spread[b] : slots_[a].pixel < slots_[b].pixel;
+  });
+  const double allowed = kTrainingPerRay * double(rays);
   for (int pass = 0; pass < 2; ++pass) {
-    const std::vector<uint32_t>& due = pass == 0 ? first : again;
+    std::vector<uint32_t> due;
     mdnet::Config config = config_;
     if (pass == 1) config.epochs = std::max(1, config_.epochs / 2);
+    // Within the budget: the pixels in order until the next one's cost would pass it.
+    for (uint32_t slot : pass == 0 ? first : again) {
+      const uint64_t cost =
+          uint64_t(neighbourhoodCount(slots_[slot].pixel)) * uint64_t(config.epochs);
+      if (double(trained_ + cost) > allowed) break;
+      trained_ += cost;
+      due.push_back(slot);
+    }
     for (size_t begin = 0; begin < due.size(); begin += kFitPart) {
       if (cancel && cancel->load()) return false;
       const std::vector<uint32_t> part(

@@ -66,8 +66,11 @@ class NetRecon {
               const PathFeatures& f);
 
   // Chooses the pixels that train from the film, stops keeping samples outside their
-  // neighbourhoods, and (re)trains the networks that are due. Returns false when cancelled.
-  bool train(const Film& film, const std::atomic<bool>* cancel);
+  // neighbourhoods, and (re)trains the networks that are due, first fits first (the widest
+  // spreads first), within a budget: the run's training, in samples x epochs, stays within
+  // `trainingPerRay` of the rays traced so far (`rays`), a count, so that the result never
+  // depends on the machine's speed. Returns false when cancelled.
+  bool train(const Film& film, uint64_t rays, const std::atomic<bool>* cancel);
 
   // What the film takes off a sample of pixel (px, py) (index p): the network's prediction for
   // it less its mean over the pixel, remodulated by the sample's albedo; 0 without a network
@@ -99,6 +102,10 @@ class NetRecon {
   size_t trainedPixels() const { return slots_.size() - freeSlots_.size(); }
   size_t correctingPixels() const;
   uint64_t fits() const { return fits_; }
+  // Training allowed per traced ray, in samples x epochs. A sample-epoch of the fit costs about
+  // 8 ns on one AVX-512 core (8 hidden units; docs/bp-method.md), a ray about 330 ns of a core
+  // in the shipped scenes: 10 keeps the training near a fifth of the tracing's time.
+  static constexpr double kTrainingPerRay = 5.0;
   size_t memoryBytes() const;
 
  private:
@@ -129,6 +136,7 @@ class NetRecon {
   std::vector<Slot> slots_;
   std::vector<uint32_t> freeSlots_;
   uint64_t fits_ = 0;
+  uint64_t trained_ = 0;  // samples x epochs trained so far
 };
 
 }  // namespace penumbra::bp

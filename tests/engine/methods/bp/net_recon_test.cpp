@@ -16,6 +16,7 @@ namespace net_recon_test {
 
 constexpr int kSize = 7;  // pixels per side; the centre pixel is (3, 3)
 constexpr int kSpp = 16;
+constexpr uint64_t kUnlimitedRays = uint64_t(1) << 40;  // no training budget
 
 // The penumbra: lit where the light sample's s lies past an edge that moves with the image's x.
 float radianceAt(float imageX, float s) { return s > 0.5f + 0.12f * (imageX - 3.5f) ? 1.0f : 0.0f; }
@@ -48,7 +49,8 @@ bool trainOnPenumbra(bp::NetRecon& nets, Film& film, Pcg32& rng) {
         nets.record(p, px, py, s.camera, s.radiance, s.features);
         film.add(p, s.radiance, s.features);
       }
-  return nets.train(film, nullptr) && nets.trainedMap()[size_t(3) * kSize + 3] == 1.0f;
+  return nets.train(film, kUnlimitedRays, nullptr) &&
+         nets.trainedMap()[size_t(3) * kSize + 3] == 1.0f;
 }
 
 TEST(NetRecon, ACorrectedPenumbraKeepsItsMeanAndLosesMostOfItsVariance) {
@@ -108,7 +110,7 @@ TEST(NetRecon, PixelsWithoutSpreadTrainNoNetworkAndAreNotCorrected) {
         nets.record(p, px, py, s.camera, s.radiance, s.features);
         film.add(p, s.radiance, s.features);
       }
-  ASSERT_TRUE(nets.train(film, nullptr));
+  ASSERT_TRUE(nets.train(film, kUnlimitedRays, nullptr));
   EXPECT_EQ(nets.trainedPixels(), 0u);
   const Sample s = draw(3, 3, rng);
   EXPECT_EQ(nets.correction(size_t(3) * kSize + 3, 3, 3, s.camera, s.features), vec3(0.0f));
