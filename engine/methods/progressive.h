@@ -10,6 +10,8 @@
 #include "methods/run_shape.h"
 #include "methods/snapshot.h"
 
+#include <glm/vec2.hpp>
+
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -60,6 +62,15 @@ struct SubpixelInspection {
   std::vector<InspectedSample> samples;        // the stored samples (at most the reservoir)
   std::vector<InspectedCandidate> candidates;  // last round's, for this pixel
 };
+// A pixel's network along the input that matters most (BP with --networks 1): its mean over
+// the other inputs against the samples, all demodulated luminances.
+struct InspectedFit {
+  std::string input;               // "light s", "time", "lens u", ...
+  float lo = 0, hi = 0;            // the input's range over the samples
+  std::vector<float> curve;        // the network, evenly spaced from lo to hi
+  std::vector<glm::vec2> samples;  // (input, value) of the neighbours' samples it was fitted on
+  std::vector<glm::vec2> own;      // the pixel's own kept samples, which it never saw
+};
 struct PixelInspection {
   bool valid = false;
   int x = -1, y = -1;
@@ -72,6 +83,7 @@ struct PixelInspection {
   size_t rankedPixels = 0;             // how many pixels that ranking held
   std::vector<InspectedValue> values;  // the method's own, in the order it shows them
   std::optional<SubpixelInspection> subpixel;  // BP: slices, samples and candidates
+  std::optional<InspectedFit> fit;             // BP with --networks 1: the pixel's network
   std::string reason;                          // one line: why the pixel was (or was not) sampled
 
   // The first value of map `id` (or labelled `label`), or nullptr.

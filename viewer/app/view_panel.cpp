@@ -423,6 +423,51 @@ void drawSubpixel(const SubpixelInspection& sub) {
   }
 }
 
+// The pixel's network along the input that matters most: the neighbours' samples it was
+// fitted on (grey), the pixel's own (orange, never fitted on) and the network's curve (white).
+void drawFit(const InspectedFit& fit) {
+  ImGui::TextWrapped("network along %s (demodulated luminance)", fit.input.c_str());
+  const float width = std::min(ImGui::GetContentRegionAvail().x, 300.0f), height = 140.0f;
+  // The value axis spans the curve and the samples' 2nd to 98th percentiles, so that a few
+  // bright outliers (indirect light) do not flatten the rest; those are drawn at the edge.
+  std::vector<float> values;
+  for (const glm::vec2& s : fit.samples) values.push_back(s.y);
+  for (const glm::vec2& s : fit.own) values.push_back(s.y);
+  std::erase_if(values, [](float v) { return !std::isfinite(v); });
+  std::sort(values.begin(), values.end());
+  float lo = INFINITY, hi = -INFINITY;
+  if (!values.empty()) {
+    lo = values[size_t(0.02 * double(values.size() - 1))];
+    hi = values[size_t(0.98 * double(values.size() - 1))];
+  }
+  for (float v : fit.curve)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0.0f, hi = 1.0f;
+  if (!(hi > lo)) hi = lo + 1.0f;
+  const float pad = 0.05f * (hi - lo);
+  lo -= pad, hi += pad;
+  const float span = std::max(fit.hi - fit.lo, 1e-6f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  auto at = [&](float x, float y) {
+    const float v = std::clamp((y - lo) / (hi - lo), 0.0f, 1.0f);
+    return ImVec2(origin.x + (x - fit.lo) / span * width, origin.y + height - v * height);
+  };
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + width, origin.y + height),
+                      IM_COL32(30, 30, 34, 255));
+  for (const glm::vec2& s : fit.samples)
+    draw->AddCircleFilled(at(s.x, s.y), 2.0f, IM_COL32(150, 150, 150, 200));
+  for (const glm::vec2& s : fit.own)
+    draw->AddCircleFilled(at(s.x, s.y), 3.0f, IM_COL32(255, 150, 40, 255));
+  for (size_t i = 1; i < fit.curve.size(); ++i) {
+    const float step = span / float(fit.curve.size() - 1);
+    draw->AddLine(at(fit.lo + step * float(i - 1), fit.curve[i - 1]),
+                  at(fit.lo + step * float(i), fit.curve[i]), IM_COL32(255, 255, 255, 255), 2.0f);
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  ImGui::Text("%s %.2f .. %.2f; value %.3g .. %.3g", fit.input.c_str(), fit.lo, fit.hi, lo, hi);
+}
+
 }  // namespace
 
 void drawInspector(const PanelState& state, const PanelActions& actions) {
@@ -447,7 +492,8 @@ void drawInspector(const PanelState& state, const PanelActions& actions) {
   ImGui::Text("kept %u, traced %u, +%u last round", in->kept, in->traced, in->addedLastRound);
   ImGui::Text("estimate %.4g %.4g %.4g", in->estimate.x, in->estimate.y, in->estimate.z);
   // The method's own values, one line each, as it formatted them.
-  for (const InspectedValue& v : in->values) ImGui::TextUnformatted(v.line.c_str());
+  for (const InspectedValue& v : in->values) ImGui::TextWrapped("%s", v.line.c_str());
+  if (in->fit) drawFit(*in->fit);
   if (!in->subpixel || (in->subpixel->samples.empty() && in->subpixel->candidates.empty())) {
     ImGui::End();  // the baselines store no samples
     return;

@@ -681,6 +681,8 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
       for (size_t p = 0; p < s_.pixelCount; ++p) heldOut[p] *= corrects[p];
       snap->addMap(maps::NetworkError, "network held-out error / variance (0: no network)",
                    std::move(heldOut), MapLegend::sequential(0.0f, 1.0f));
+      snap->addMap(maps::Networks, "networks", nets_->roleMap(),
+                   MapLegend::categorical(NetRecon::roleLabels()));
     }
   }
   addSelectedMap(*snap, s_.selected);
@@ -733,12 +735,19 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
       std::snprintf(line, sizeof line, "no network (%u samples kept for the neighbours')",
                     net.kept);
     else
-      std::snprintf(line, sizeof line,
-                    "network %s: held-out error %.2f of the variance (on its %u kept samples), "
-                    "fitted on %u neighbours' samples, mean %.3g %.3g %.3g",
-                    net.corrects ? "corrects its samples" : "does not correct (error too high)",
-                    net.heldOut, net.kept, net.samples, net.mean.x, net.mean.y, net.mean.z);
+      std::snprintf(line, sizeof line, "network %s: held-out error %.2f of the variance",
+                    net.corrects ? "corrects" : "does not correct", net.heldOut);
     in.addValue("network", {float(net.corrects), net.heldOut}, line, maps::NetworkError);
+    if (net.trained) {
+      std::snprintf(line, sizeof line, "  fitted on %u neighbours' samples, tested on its %u",
+                    net.samples, net.kept);
+      in.addValue("network samples", {float(net.samples), float(net.kept)}, line);
+      std::snprintf(line, sizeof line, "  its mean %.3g %.3g %.3g (demodulated)", net.mean.x,
+                    net.mean.y, net.mean.z);
+      in.addValue("network mean", {net.mean.x, net.mean.y, net.mean.z}, line);
+    }
+    if (const auto fit = nets_->fitAlong(p))
+      in.fit = InspectedFit{fit->input, fit->lo, fit->hi, fit->curve, fit->samples, fit->own};
   }
   char reason[200];
   if (s_.rounds <= int(coarseSteps_.size()))

@@ -84,7 +84,8 @@ const MethodDescriptor& bpConsistentMethod() {
                   nullptr}};
     d.maps = {&maps::ErrorEstimate, &maps::Selected,     &maps::FilterScale, &maps::SampleCount,
               &maps::TracedCount,   &maps::NetworkError, &maps::Prediction,  &maps::Albedo,
-              &maps::Normal,        &maps::Depth,        &maps::Emission,    &maps::RawError};
+              &maps::Normal,        &maps::Depth,        &maps::Emission,    &maps::RawError,
+              &maps::Networks};
     d.abilities = [](const BpConsistentConfig& c) {
       return MethodAbilities{true, c.reconstruct, true, true};
     };

@@ -268,6 +268,91 @@ std::vector<float> NetRecon::trainedMap() const {
   return map;
 }
 
+std::vector<std::string> NetRecon::roleLabels() {
+  return {"keeps samples", "not fitted yet", "held out (too wrong)", "corrects",
+          "capped (corrected its share)"};
+}
+
+std::vector<float> NetRecon::roleMap() const {
+  std::vector<float> map(kept_.size(), float(kRoleNone));
+  for (size_t p = 0; p < map.size(); ++p) {
+    const int32_t slot = slotOf_[p];
+    if (slot < 0) {
+      if (storing_[p] && !kept_[p].empty()) map[p] = float(kStores);
+      continue;
+    }
+    const Slot& s = slots_[size_t(slot)];
+    const Role role = s.trainedAt == 0                                     ? kWaiting
+                      : !s.corrects                                        ? kHeldOut
+                      : s.corrected >= s.trainedAt / kSamplesPerCorrection ? kCapped
+                                                                           : kCorrects;
+    map[p] = float(role);
+  }
+  return map;
+}
+
+std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
+  if (slotOf_[p] < 0 || slots_[size_t(slotOf_[p])].trainedAt == 0) return std::nullopt;
+  const uint32_t slot = uint32_t(slotOf_[p]);
+  const Slot& s = slots_[slot];
+  mdnet::Batch batch;
+  gather({slot}, batch);
+  const size_t inputs = size_t(config_.inputs), count = batch.targets.size();
+  if (count == 0) return std::nullopt;
+  // The partial dependence is averaged over at most this many of the samples, evenly spread.
+  constexpr size_t kBackground = 96;
+  constexpr int kPoints = 17;
+  const size_t step = std::max<size_t>(1, count / kBackground);
+  const char* names[mdnet::kMaxInputs] = {};
+  {
+    int k = 0;
+    names[k++] = "x offset";
+    names[k++] = "y offset";
+    if (lens_) names[k++] = "lens u", names[k++] = "lens v";
+    if (time_) names[k++] = "time";
+    names[k++] = "light s";
+    names[k++] = "light t";
+  }
+  Fit best;
+  float bestSpread = -1.0f;
+  for (size_t i = 0; i < inputs; ++i) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t j = 0; j < count; ++j) {
+      lo = std::min(lo, batch.inputs[j * inputs + i]);
+      hi = std::max(hi, batch.inputs[j * inputs + i]);
+    }
+    std::vector<float> curve(kPoints);
+    for (int t = 0; t < kPoints; ++t) {
+      const float v = lo + (hi - lo) * float(t) / float(kPoints - 1);
+      double sum = 0;
+      size_t used = 0;
+      for (size_t j = 0; j < count; j += step, ++used) {
+        float point[mdnet::kMaxInputs];
+        std::copy_n(&batch.inputs[j * inputs], inputs, point);
+        point[i] = v;
+        sum += double(luminance(mdnet::predict(s.net, config_, point)));
+      }
+      curve[size_t(t)] = float(sum / double(used));
+    }
+    const auto [mn, mx] = std::minmax_element(curve.begin(), curve.end());
+    if (*mx - *mn > bestSpread) {
+      bestSpread = *mx - *mn;
+      best.input = names[i];
+      best.lo = lo;
+      best.hi = hi;
+      best.curve = std::move(curve);
+      best.samples.clear();
+      for (size_t j = 0; j < count; ++j)
+        best.samples.emplace_back(batch.inputs[j * inputs + i], luminance(batch.targets[j]));
+      best.own.clear();
+      for (const NetSample& o : kept_[p])
+        best.own.emplace_back(glm::unpackHalf1x16(o.in[i]),
+                              luminance(vec3(o.target[0], o.target[1], o.target[2])));
+    }
+  }
+  return best;
+}
+
 NetRecon::PixelNetwork NetRecon::pixelNetwork(size_t p) const {
   PixelNetwork info;
   info.kept = uint32_t(kept_[p].size());

@@ -34,6 +34,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace penumbra::bp {
@@ -91,6 +93,30 @@ class NetRecon {
     vec3 mean{0.0f};        // its mean over the pixel (demodulated)
   };
   PixelNetwork pixelNetwork(size_t p) const;
+
+  // A fitted network along the input that matters most, against the samples: for the
+  // inspector. The input's importance is how much the network's mean over the neighbourhood's
+  // samples moves when that input alone is swept over its range (a partial dependence).
+  struct Fit {
+    const char* input =
+        "";  // "x offset", "y offset", "lens u", "lens v", "time", "light s", "light t"
+    float lo = 0, hi = 0;       // the input's range over the samples
+    std::vector<float> curve;   // the partial dependence (demodulated luminance), lo to hi
+    std::vector<vec2> samples;  // (input, demodulated luminance) of the neighbours' samples
+    std::vector<vec2> own;      // the same of the pixel's own kept samples (never fitted on)
+  };
+  std::optional<Fit> fitAlong(size_t p) const;
+
+  // What each pixel does for the networks (the `networks` map), or kRoleNone:
+  //  kStores:   it keeps samples for a neighbour's network and has none of its own;
+  //  kWaiting:  it has a network, not fitted yet (too few samples, or the budget);
+  //  kHeldOut:  fitted, but its held-out error is above maxHeldOut: it corrects nothing;
+  //  kCorrects: it corrects the pixel's samples;
+  //  kCapped:   it corrected as many as it may; the samples enter raw until it retrains.
+  enum Role : int { kStores = 0, kWaiting, kHeldOut, kCorrects, kCapped, kRoles };
+  static constexpr int kRoleNone = -1;
+  static std::vector<std::string> roleLabels();
+  std::vector<float> roleMap() const;
 
   // Per pixel: 1 where a network corrects the samples, else 0.
   std::vector<float> trainedMap() const;

@@ -23,6 +23,8 @@ namespace penumbra {
 namespace maps {
 // The network's error er per pixel (the paper's converged test).
 inline constexpr MapKind NetworkError{"network_error", nullptr, "Network error er", 6};
+// With --networks 1: what each pixel does for the networks (NetRecon::Role).
+inline constexpr MapKind Networks{"networks", nullptr, "Networks (--networks 1)", 13};
 // I', the network's prediction, tone-mapped RGB.
 inline constexpr MapKind Prediction{"prediction", nullptr, "Network prediction I'", 0};
 // The slices B and C the last round chose per pixel (-1: none), drawn inside the pixels.

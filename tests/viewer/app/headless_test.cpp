@@ -10,6 +10,7 @@
 // renders, hence the goldens, are the same on every x86-64 CPU.
 #include "viewer/app/headless.h"
 #include "core/image_io.h"
+#include "methods/bp/consistent.h"
 #include "methods/bp/state.h"
 #include "methods/render.h"
 #include "present/overlays.h"
@@ -63,6 +64,8 @@ ViewOptions options(MapId overlay) {
   o.scene = tire();
   // What `penumbra view` runs by default, or the tuned preset for a map only it has.
   usePreset(o, paperOnly(overlay) ? "tuned" : "consistent");
+  // The networks map is there only with the networks on.
+  if (overlay == maps::Networks) o.config().as<BpConsistentConfig>().networks = 1;
   o.shape.seed = 7;
   o.overlay = overlay;
   o.reference = reference();

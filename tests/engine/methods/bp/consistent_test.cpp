@@ -5,8 +5,10 @@
 
 #include "core/image_io.h"
 #include "eval/metrics.h"
+#include "methods/bp/net_recon.h"
 #include "methods/bp/network.h"
 #include "methods/bp/pixel_store.h"
+#include "methods/bp/state.h"
 #include "methods/factory.h"
 #include "methods/film.h"
 #include "tests/test_paths.h"
@@ -158,6 +160,44 @@ TEST(ConsistentBp, WithNetworksAFixedSppRunDoesNotDependOnTheThreadCount) {
   const SnapshotStat* corrected = snap->stat("network_pixels");
   ASSERT_NE(corrected, nullptr);
   EXPECT_GT(corrected->value, 0.0);
+}
+
+// With the networks on and maps wanted, the method publishes the networks map (whose
+// correcting pixels are the `network_pixels` stat) and the inspector shows each fitted
+// network's fit along one of its inputs, against its samples.
+TEST(ConsistentBp, WithNetworksItShowsWhereTheyWorkAndEachFit) {
+  auto prepared = test::shippedScene("tire", 32);
+  auto method = makeBpConsistentMethod(*prepared, RunShape::batch(16, 2), withNetworks());
+  method->setMapsWanted(true);
+  const auto snap = test::runToEnd(*method);
+  const SnapshotMap* roles = snap->map(maps::Networks);
+  ASSERT_NE(roles, nullptr);
+  ASSERT_EQ(roles->values.size(), size_t(32 * 32));
+  size_t correcting = 0, fits = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const float role = roles->values[size_t(y) * 32 + size_t(x)];
+      correcting += role == float(bp::NetRecon::kCorrects) || role == float(bp::NetRecon::kCapped);
+      if (role < float(bp::NetRecon::kHeldOut)) continue;  // no fitted network
+      const PixelInspection in = method->inspect(x, y);
+      ASSERT_TRUE(in.fit.has_value()) << x << ", " << y;
+      ++fits;
+      EXPECT_EQ(in.fit->curve.size(), 17u);
+      EXPECT_FALSE(in.fit->samples.empty());
+      EXPECT_LT(in.fit->lo, in.fit->hi);
+      for (const glm::vec2& s : in.fit->samples) {
+        EXPECT_GE(s.x, in.fit->lo);
+        EXPECT_LE(s.x, in.fit->hi);
+      }
+    }
+  EXPECT_EQ(double(correcting), snap->stat("network_pixels")->value);
+  EXPECT_GT(fits, 0u);
+  // A pixel without a network has no fit.
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      if (roles->values[size_t(y) * 32 + size_t(x)] >= float(bp::NetRecon::kHeldOut)) continue;
+      EXPECT_FALSE(method->inspect(x, y).fit.has_value()) << x << ", " << y;
+    }
 }
 
 // Open-ended (the viewer), the coarse pass is rounds of 1, 1 and the rest that each publish: a

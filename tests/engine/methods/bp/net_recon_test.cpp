@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra {
@@ -114,6 +115,80 @@ TEST(NetRecon, PixelsWithoutSpreadTrainNoNetworkAndAreNotCorrected) {
   EXPECT_EQ(nets.trainedPixels(), 0u);
   const Sample s = draw(3, 3, rng);
   EXPECT_EQ(nets.correction(size_t(3) * kSize + 3, 3, 3, s.camera, s.features), vec3(0.0f));
+}
+
+// The inspector's fit: along the light's s the penumbra is a step, so the network's partial
+// dependence on s rises from dark to lit and the inspector picks s as the input that matters
+// most; the curve then follows the pixel's own samples (which it never saw) better than their
+// mean does.
+TEST(NetRecon, TheInspectorsFitFollowsThePenumbraAlongTheLightsPosition) {
+  bp::NetReconConfig config;
+  config.share = 1.0f;
+  config.epochs = 300;
+  bp::NetRecon nets(kSize, kSize, false, false, config);
+  Film film(kSize, kSize);
+  Pcg32 rng(5, 1);
+  ASSERT_TRUE(trainOnPenumbra(nets, film, rng));
+  const size_t centre = size_t(3) * kSize + 3;
+  const auto fit = nets.fitAlong(centre);
+  ASSERT_TRUE(fit.has_value());
+  EXPECT_STREQ(fit->input, "light s");
+  ASSERT_GE(fit->curve.size(), 3u);
+  // Demodulated: lit is 0.5 / (0.5 + 0.01).
+  const float lit = 0.5f / 0.51f;
+  EXPECT_LT(fit->curve.front(), 0.3f * lit);
+  EXPECT_GT(fit->curve.back(), 0.7f * lit);
+  EXPECT_EQ(fit->samples.size(), size_t(24 * kSpp));
+  ASSERT_EQ(fit->own.size(), size_t(kSpp));
+  double curveErr = 0, meanErr = 0, mean = 0;
+  for (const vec2& o : fit->own) mean += o.y / kSpp;
+  for (const vec2& o : fit->own) {
+    const float at = (o.x - fit->lo) / (fit->hi - fit->lo) * float(fit->curve.size() - 1);
+    const size_t i = size_t(std::clamp(std::lround(at), 0L, long(fit->curve.size() - 1)));
+    curveErr += std::pow(fit->curve[i] - o.y, 2.0);
+    meanErr += std::pow(mean - o.y, 2.0);
+  }
+  EXPECT_LT(curveErr, 0.5 * meanErr);
+  // A pixel without a network has no fit.
+  bp::NetRecon untrained(kSize, kSize, false, false, config);
+  EXPECT_FALSE(untrained.fitAlong(centre).has_value());
+}
+
+// The networks map: the pixels with a network correct (or wait for more samples), the ones
+// that only keep samples for them say so, and a pixel with nothing to explain has no role.
+TEST(NetRecon, TheNetworksMapSaysWhatEachPixelDoes) {
+  bp::NetReconConfig config;
+  config.share = 1.5f / float(kSize * kSize);  // one network: the widest spread
+  config.reach = 1;
+  bp::NetRecon nets(kSize, kSize, false, false, config);
+  Film film(kSize, kSize);
+  Pcg32 rng(9, 1);
+  for (int py = 0; py < kSize; ++py)
+    for (int px = 0; px < kSize; ++px)
+      for (int k = 0; k < kSpp; ++k) {
+        const size_t p = size_t(py) * kSize + size_t(px);
+        Sample s = draw(px, py, rng);
+        if (px != 3 || py != 3) s.radiance = vec3(0.25f);  // only the centre varies
+        nets.record(p, px, py, s.camera, s.radiance, s.features);
+        film.add(p, s.radiance, s.features);
+      }
+  std::vector<float> roles = nets.roleMap();
+  EXPECT_EQ(roles[0], float(bp::NetRecon::kStores)) << "before a choice every pixel stores";
+  ASSERT_TRUE(nets.train(film, kUnlimitedRays, nullptr));
+  roles = nets.roleMap();
+  ASSERT_EQ(roles.size(), size_t(kSize * kSize));
+  const size_t centre = size_t(3) * kSize + 3;
+  // The centre's network: fitted on flat neighbours, it cannot predict the centre's spread.
+  EXPECT_EQ(roles[centre], float(bp::NetRecon::kHeldOut));
+  for (int py = 0; py < kSize; ++py)
+    for (int px = 0; px < kSize; ++px) {
+      const size_t p = size_t(py) * kSize + size_t(px);
+      if (p == centre) continue;
+      const bool near = std::abs(px - 3) <= 1 && std::abs(py - 3) <= 1;
+      EXPECT_EQ(roles[p], float(near ? bp::NetRecon::kStores : bp::NetRecon::kRoleNone))
+          << px << ", " << py;
+    }
+  EXPECT_EQ(bp::NetRecon::roleLabels().size(), size_t(bp::NetRecon::kRoles));
 }
 
 }  // namespace net_recon_test
