@@ -39,17 +39,25 @@ Sample draw(int px, int py, Pcg32& rng) {
   return s;
 }
 
-// The neighbours' samples of every pixel of the image, into a film and the networks' store,
-// then one training; true when the centre pixel's network corrects.
-bool trainOnPenumbra(bp::NetRecon& nets, Film& film, Pcg32& rng) {
+// kSpp samples of every pixel of the image into a film and the networks' store; `radiance`
+// (px, py, the penumbra's radiance) may replace a sample's radiance.
+template <class Radiance>
+void recordImage(bp::NetRecon& nets, Film& film, Pcg32& rng, Radiance radiance) {
   for (int py = 0; py < kSize; ++py)
     for (int px = 0; px < kSize; ++px)
       for (int k = 0; k < kSpp; ++k) {
         const size_t p = size_t(py) * kSize + size_t(px);
-        const Sample s = draw(px, py, rng);
+        Sample s = draw(px, py, rng);
+        s.radiance = radiance(px, py, s.radiance);
         nets.record(p, px, py, s.camera, s.radiance, s.features);
         film.add(p, s.radiance, s.features);
       }
+}
+
+// The penumbra into a film and the networks' store, then one training; true when the centre
+// pixel's network corrects.
+bool trainOnPenumbra(bp::NetRecon& nets, Film& film, Pcg32& rng) {
+  recordImage(nets, film, rng, [](int, int, vec3 penumbra) { return penumbra; });
   return nets.train(film, kUnlimitedRays, nullptr) &&
          nets.trainedMap()[size_t(3) * kSize + 3] == 1.0f;
 }
@@ -102,15 +110,7 @@ TEST(NetRecon, PixelsWithoutSpreadTrainNoNetworkAndAreNotCorrected) {
   bp::NetRecon nets(kSize, kSize, false, false, config);
   Film film(kSize, kSize);
   Pcg32 rng(3, 1);
-  for (int py = 0; py < kSize; ++py)
-    for (int px = 0; px < kSize; ++px)
-      for (int k = 0; k < kSpp; ++k) {
-        const size_t p = size_t(py) * kSize + size_t(px);
-        Sample s = draw(px, py, rng);
-        s.radiance = vec3(0.3f);  // flat: nothing to explain
-        nets.record(p, px, py, s.camera, s.radiance, s.features);
-        film.add(p, s.radiance, s.features);
-      }
+  recordImage(nets, film, rng, [](int, int, vec3) { return vec3(0.3f); });  // nothing to explain
   ASSERT_TRUE(nets.train(film, kUnlimitedRays, nullptr));
   EXPECT_EQ(nets.trainedPixels(), 0u);
   const Sample s = draw(3, 3, rng);
@@ -163,15 +163,9 @@ TEST(NetRecon, TheNetworksMapSaysWhatEachPixelDoes) {
   bp::NetRecon nets(kSize, kSize, false, false, config);
   Film film(kSize, kSize);
   Pcg32 rng(9, 1);
-  for (int py = 0; py < kSize; ++py)
-    for (int px = 0; px < kSize; ++px)
-      for (int k = 0; k < kSpp; ++k) {
-        const size_t p = size_t(py) * kSize + size_t(px);
-        Sample s = draw(px, py, rng);
-        if (px != 3 || py != 3) s.radiance = vec3(0.25f);  // only the centre varies
-        nets.record(p, px, py, s.camera, s.radiance, s.features);
-        film.add(p, s.radiance, s.features);
-      }
+  recordImage(nets, film, rng, [](int px, int py, vec3 penumbra) {
+    return px == 3 && py == 3 ? penumbra : vec3(0.25f);  // only the centre varies
+  });
   std::vector<float> roles = nets.roleMap();
   EXPECT_EQ(roles[0], float(bp::NetRecon::kStores)) << "before a choice every pixel stores";
   ASSERT_TRUE(nets.train(film, kUnlimitedRays, nullptr));
