@@ -1,9 +1,10 @@
 // Speed of the multidimensional networks' training (methods/bp/mdnet.h): the scalar fit and
 // the lane-group kernel (fitBatch) on the same pixels, and the kernel's share of the machine's
 // FMA peak. Each pixel trains on `--samples` samples of a sheared step over (dx, dy, u, v) for
-// `--epochs` epochs, as a 5x5 neighbourhood at 16 spp would.
+// `--epochs` epochs, as a 5x5 neighbourhood at 16 spp would; `--inputs` above 4 adds inputs
+// the step does not depend on (time, the light's chart: `bp --networks 1` fits 4 to 7).
 //
-// Usage: penumbra_bench_mdnet [--pixels N] [--samples S] [--epochs E] [--hidden H]
+// Usage: penumbra_bench_mdnet [--pixels N] [--samples S] [--epochs E] [--hidden H] [--inputs I]
 #include "core/rng.h"
 #include "methods/bp/mdnet.h"
 #include "methods/bp/network.h"
@@ -28,7 +29,7 @@ double now() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int pixels = 512, samples = 400, epochs = 300, hidden = 8;
+  int pixels = 512, samples = 400, epochs = 300, hidden = 8, inputs = 4;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
@@ -40,16 +41,18 @@ int main(int argc, char** argv) {
       epochs = std::max(1, next());
     else if (a == "--hidden")
       hidden = std::clamp(next(), 1, mdnet::kMaxHidden);
+    else if (a == "--inputs")
+      inputs = std::clamp(next(), 4, mdnet::kMaxInputs);
     else {
       std::fprintf(stderr,
                    "penumbra_bench_mdnet: unknown flag %s\nusage: %s [--pixels N] [--samples S] "
-                   "[--epochs E] [--hidden H]\n",
+                   "[--epochs E] [--hidden H] [--inputs I]\n",
                    a.c_str(), argv[0]);
       return 2;
     }
   }
   mdnet::Config config;
-  config.inputs = 4;
+  config.inputs = inputs;
   config.hidden = hidden;
   config.epochs = epochs;
   mdnet::Batch batch;
@@ -60,6 +63,7 @@ int main(int argc, char** argv) {
       const float x = 5 * rng.nextFloat() - 2.5f, y = 5 * rng.nextFloat() - 2.5f;
       const float u = rng.nextFloat() - 0.5f, v = rng.nextFloat() - 0.5f;
       batch.inputs.insert(batch.inputs.end(), {x, y, u, v});
+      for (int i = 4; i < inputs; ++i) batch.inputs.push_back(rng.nextFloat() - 0.5f);
       batch.targets.push_back(glm::vec3(x + shear * u > 0.3f ? 1.0f : 0.1f));
     }
     batch.offsets.push_back(uint32_t(batch.targets.size()));
@@ -78,7 +82,8 @@ int main(int argc, char** argv) {
     mdnet::Net net;
     mdnet::init(net, config, uint64_t(j));
     const uint32_t b = batch.offsets[size_t(j)], e = batch.offsets[size_t(j) + 1];
-    mdnet::fit(net, config, std::span<const float>(batch.inputs.data() + 4 * b, 4 * (e - b)),
+    const size_t n = size_t(inputs);
+    mdnet::fit(net, config, std::span<const float>(batch.inputs.data() + n * b, n * (e - b)),
                std::span<const glm::vec3>(batch.targets.data() + b, e - b));
   }
   const double scalarPerFit = (now() - start) / scalarPixels;
