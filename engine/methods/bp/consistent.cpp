@@ -742,6 +742,11 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
       std::snprintf(line, sizeof line, "  fitted on %u neighbours' samples, tested on its %u",
                     net.samples, net.kept);
       in.addValue("network samples", {float(net.samples), float(net.kept)}, line);
+      std::string inputs = "  inputs:";
+      for (const char* name : nets_->inputNames()) inputs += std::string(" ") + name + ",";
+      inputs.back() = ' ';
+      inputs += "(each centred on 0)";
+      in.addValue("network inputs", {float(nets_->inputs())}, inputs);
       std::snprintf(line, sizeof line, "  its mean %.3g %.3g %.3g (demodulated)", net.mean.x,
                     net.mean.y, net.mean.z);
       in.addValue("network mean", {net.mean.x, net.mean.y, net.mean.z}, line);

@@ -291,6 +291,14 @@ std::vector<float> NetRecon::roleMap() const {
   return map;
 }
 
+std::vector<const char*> NetRecon::inputNames() const {
+  std::vector<const char*> names = {"x offset", "y offset"};
+  if (lens_) names.insert(names.end(), {"lens u", "lens v"});
+  if (time_) names.push_back("time");
+  names.insert(names.end(), {"light s", "light t"});
+  return names;
+}
+
 std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
   if (slotOf_[p] < 0 || slots_[size_t(slotOf_[p])].trainedAt == 0) return std::nullopt;
   const uint32_t slot = uint32_t(slotOf_[p]);
@@ -303,16 +311,7 @@ std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
   constexpr size_t kBackground = 96;
   constexpr int kPoints = 17;
   const size_t step = std::max<size_t>(1, count / kBackground);
-  const char* names[mdnet::kMaxInputs] = {};
-  {
-    int k = 0;
-    names[k++] = "x offset";
-    names[k++] = "y offset";
-    if (lens_) names[k++] = "lens u", names[k++] = "lens v";
-    if (time_) names[k++] = "time";
-    names[k++] = "light s";
-    names[k++] = "light t";
-  }
+  const std::vector<const char*> names = inputNames();
   Fit best;
   float bestSpread = -1.0f;
   for (size_t i = 0; i < inputs; ++i) {

@@ -125,6 +125,9 @@ class NetRecon {
   std::vector<float> heldOutMap() const;
 
   int inputs() const { return config_.inputs; }
+  // The inputs' names, in order: "x offset", "y offset", ["lens u", "lens v",] ["time",]
+  // "light s", "light t".
+  std::vector<const char*> inputNames() const;
   size_t trainedPixels() const { return slots_.size() - freeSlots_.size(); }
   size_t correctingPixels() const;
   uint64_t fits() const { return fits_; }

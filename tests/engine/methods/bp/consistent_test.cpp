@@ -182,6 +182,11 @@ TEST(ConsistentBp, WithNetworksItShowsWhereTheyWorkAndEachFit) {
       const PixelInspection in = method->inspect(x, y);
       ASSERT_TRUE(in.fit.has_value()) << x << ", " << y;
       ++fits;
+      // The inputs are listed, the fit's among them (tire: offsets and the light's chart).
+      const InspectedValue* inputs = in.value("network inputs");
+      ASSERT_NE(inputs, nullptr);
+      EXPECT_EQ(inputs->values, std::vector<float>{4.0f});
+      EXPECT_NE(inputs->line.find(in.fit->input), std::string::npos) << inputs->line;
       EXPECT_EQ(in.fit->curve.size(), 17u);
       EXPECT_FALSE(in.fit->samples.empty());
       EXPECT_LT(in.fit->lo, in.fit->hi);
