@@ -751,8 +751,7 @@ PixelInspection ConsistentMethod::inspect(int x, int y) const {
                     net.mean.y, net.mean.z);
       in.addValue("network mean", {net.mean.x, net.mean.y, net.mean.z}, line);
     }
-    if (const auto fit = nets_->fitAlong(p))
-      in.fit = InspectedFit{fit->input, fit->lo, fit->hi, fit->curve, fit->samples, fit->own};
+    in.fit = nets_->fitAlong(p);
   }
   char reason[200];
   if (s_.rounds <= int(coarseSteps_.size()))

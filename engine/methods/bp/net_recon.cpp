@@ -299,7 +299,7 @@ std::vector<const char*> NetRecon::inputNames() const {
   return names;
 }
 
-std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
+std::optional<InspectedFit> NetRecon::fitAlong(size_t p) const {
   if (slotOf_[p] < 0 || slots_[size_t(slotOf_[p])].trainedAt == 0) return std::nullopt;
   const uint32_t slot = uint32_t(slotOf_[p]);
   const Slot& s = slots_[slot];
@@ -311,8 +311,8 @@ std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
   constexpr size_t kBackground = 96;
   constexpr int kPoints = 17;
   const size_t step = std::max<size_t>(1, count / kBackground);
-  const std::vector<const char*> names = inputNames();
-  Fit best;
+  InspectedFit best;
+  size_t bestInput = 0;
   float bestSpread = -1.0f;
   for (size_t i = 0; i < inputs; ++i) {
     float lo = INFINITY, hi = -INFINITY;
@@ -336,19 +336,18 @@ std::optional<NetRecon::Fit> NetRecon::fitAlong(size_t p) const {
     const auto [mn, mx] = std::minmax_element(curve.begin(), curve.end());
     if (*mx - *mn > bestSpread) {
       bestSpread = *mx - *mn;
-      best.input = names[i];
+      bestInput = i;
       best.lo = lo;
       best.hi = hi;
       best.curve = std::move(curve);
-      best.samples.clear();
-      for (size_t j = 0; j < count; ++j)
-        best.samples.emplace_back(batch.inputs[j * inputs + i], luminance(batch.targets[j]));
-      best.own.clear();
-      for (const NetSample& o : kept_[p])
-        best.own.emplace_back(glm::unpackHalf1x16(o.in[i]),
-                              luminance(vec3(o.target[0], o.target[1], o.target[2])));
     }
   }
+  best.input = inputNames()[bestInput];
+  for (size_t j = 0; j < count; ++j)
+    best.samples.emplace_back(batch.inputs[j * inputs + bestInput], luminance(batch.targets[j]));
+  for (const NetSample& o : kept_[p])
+    best.own.emplace_back(glm::unpackHalf1x16(o.in[bestInput]),
+                          luminance(vec3(o.target[0], o.target[1], o.target[2])));
   return best;
 }
 

@@ -28,6 +28,7 @@
 #include "core/image.h"
 #include "methods/bp/mdnet.h"
 #include "methods/film.h"
+#include "methods/progressive.h"
 #include "methods/recon/denoise.h"
 #include "scene/camera.h"
 #include "trace/integrator.h"
@@ -96,16 +97,9 @@ class NetRecon {
 
   // A fitted network along the input that matters most, against the samples: for the
   // inspector. The input's importance is how much the network's mean over the neighbourhood's
-  // samples moves when that input alone is swept over its range (a partial dependence).
-  struct Fit {
-    const char* input =
-        "";  // "x offset", "y offset", "lens u", "lens v", "time", "light s", "light t"
-    float lo = 0, hi = 0;       // the input's range over the samples
-    std::vector<float> curve;   // the partial dependence (demodulated luminance), lo to hi
-    std::vector<vec2> samples;  // (input, demodulated luminance) of the neighbours' samples
-    std::vector<vec2> own;      // the same of the pixel's own kept samples (never fitted on)
-  };
-  std::optional<Fit> fitAlong(size_t p) const;
+  // samples moves when that input alone is swept over its range (a partial dependence); the
+  // curve and samples are demodulated luminances. None without a fitted network.
+  std::optional<InspectedFit> fitAlong(size_t p) const;
 
   // What each pixel does for the networks (the `networks` map), or kRoleNone:
   //  kStores:   it keeps samples for a neighbour's network and has none of its own;

@@ -132,7 +132,7 @@ TEST(NetRecon, TheInspectorsFitFollowsThePenumbraAlongTheLightsPosition) {
   const size_t centre = size_t(3) * kSize + 3;
   const auto fit = nets.fitAlong(centre);
   ASSERT_TRUE(fit.has_value());
-  EXPECT_STREQ(fit->input, "light s");
+  EXPECT_EQ(fit->input, "light s");
   ASSERT_GE(fit->curve.size(), 3u);
   // Demodulated: lit is 0.5 / (0.5 + 0.01).
   const float lit = 0.5f / 0.51f;
@@ -141,8 +141,8 @@ TEST(NetRecon, TheInspectorsFitFollowsThePenumbraAlongTheLightsPosition) {
   EXPECT_EQ(fit->samples.size(), size_t(24 * kSpp));
   ASSERT_EQ(fit->own.size(), size_t(kSpp));
   double curveErr = 0, meanErr = 0, mean = 0;
-  for (const vec2& o : fit->own) mean += o.y / kSpp;
-  for (const vec2& o : fit->own) {
+  for (const glm::vec2& o : fit->own) mean += o.y / kSpp;
+  for (const glm::vec2& o : fit->own) {
     const float at = (o.x - fit->lo) / (fit->hi - fit->lo) * float(fit->curve.size() - 1);
     const size_t i = size_t(std::clamp(std::lround(at), 0L, long(fit->curve.size() - 1)));
     curveErr += std::pow(fit->curve[i] - o.y, 2.0);
