@@ -116,6 +116,14 @@ void checkSize(int width, int height, int channels, size_t count) {
 
 // ---- lookups --------------------------------------------------------------------------------
 
+// i modulo n in [0, n), by a compare for i in [-1, n) (bilinear's first texel of a repeating
+// axis) and by divisions otherwise; the same index either way.
+inline int wrapIndex(int i, int n) {
+  if (i >= 0 && i < n) return i;
+  if (i == -1) return n - 1;
+  return ((i % n) + n) % n;
+}
+
 // Bilinear at one level through texel(index of the texel's first value) -> linear RGB.
 template <typename Texel>
 vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texel texel) {
@@ -124,8 +132,9 @@ vec3 bilinear(const TextureImage::Level& level, int channels, glm::vec2 uv, Texe
   const float y = (1.0f - (uv.y - std::floor(uv.y))) * float(h) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
-  // The four texels wrap: one division each way for the first, the next one by a compare.
-  const int x0 = ((int(fx) % w) + w) % w, y0 = ((int(fy) % h) + h) % h;
+  // The four texels wrap. The fraction of uv puts the first texel at -1 .. n - 1, so a compare
+  // finds it; the divisions are left for what is not finite.
+  const int x0 = wrapIndex(int(fx), w), y0 = wrapIndex(int(fy), h);
   const int x1 = x0 + 1 == w ? 0 : x0 + 1, y1 = y0 + 1 == h ? 0 : y0 + 1;
   const size_t row0 = level.offset + size_t(y0) * size_t(w) * size_t(channels);
   const size_t row1 = level.offset + size_t(y1) * size_t(w) * size_t(channels);
@@ -142,7 +151,7 @@ void wrappedPair(TextureWrap wrap, float x, int n, int& i0, int& i1, float& t) {
   const float f = std::floor(x);
   t = x - f;
   if (wrap == TextureWrap::Repeat) {
-    i0 = ((int(f) % n) + n) % n;
+    i0 = wrapIndex(int(f), n);
     i1 = i0 + 1 == n ? 0 : i0 + 1;
     return;
   }

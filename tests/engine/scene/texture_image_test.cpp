@@ -187,6 +187,23 @@ TEST(TextureImage, ClampToEdgeExtendsTheEdgeTexels) {
   for (const float u : {1.5f, 7.0f, 1e30f}) EXPECT_EQ(at(u, clamp), 3.0f) << u;
 }
 
+TEST(TextureImage, RepeatReadsTheSameTexelsInEveryPeriod) {
+  const TextureImage image = makeTextureImageFloat(4, 1, 1, {0, 1, 2, 3});
+  auto at = [&](float u) { return sampleTextureLevel(image, 0, vec2(u, 0.5f)).x; };
+  // Texel centres at 0.125 + 0.25 i; between them a blend, across the seam of the last and first.
+  EXPECT_FLOAT_EQ(at(0.25f), 0.5f);
+  EXPECT_FLOAT_EQ(at(0.0f), 1.5f);
+  EXPECT_FLOAT_EQ(at(0.0625f), 0.75f) << "three quarters of the way from texel 3 to texel 0";
+  EXPECT_FLOAT_EQ(at(0.9375f), 2.25f) << "a quarter of the way from texel 3 to texel 0";
+  for (const float period : {1.0f, -1.0f, 5.0f, -7.0f, 64.0f, -1000.0f})
+    for (const float u : {0.0f, 0.0625f, 0.3f, 0.5f, 0.9375f})
+      EXPECT_NEAR(at(u + period), at(u), 2e-3f) << u << " + " << period;
+  // Along v too (v = 0 is the bottom row).
+  const TextureImage column = makeTextureImageFloat(1, 4, 1, {3, 2, 1, 0});
+  for (const float v : {0.3f, -0.7f, 4.3f})
+    EXPECT_NEAR(sampleTextureLevel(column, 0, vec2(0.5f, v)).x, 0.7f, 1e-3f) << v;
+}
+
 TEST(TextureImage, MirroredRepeatReadsEveryOtherPeriodBackwards) {
   const TextureImage image = makeTextureImageFloat(4, 1, 1, {0, 1, 2, 3});
   const TextureWrapModes mirror{TextureWrap::MirroredRepeat, TextureWrap::Repeat};
