@@ -98,7 +98,10 @@ namespace {
 void applyEnvironmentOptions(const SceneOptions& o, Scene& scene) {
   if (!o.environment.empty()) {
     try {
+      const size_t warningsBefore = scene.warnings.size();
       replaceEnvironment(scene, o.environment);
+      for (size_t i = warningsBefore; i < scene.warnings.size(); ++i)
+        std::fprintf(stderr, "warning: %s\n", scene.warnings[i].c_str());
     } catch (const SceneError& error) {
       throw CommandError(std::string("--env ") + error.what());
     }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace penumbra {
 
@@ -61,7 +62,7 @@ vec3 equirectToDirection(glm::vec2 ut) {
   return {s * std::cos(phi), std::cos(theta), s * std::sin(phi)};
 }
 
-std::shared_ptr<const Image> readEnvironmentMap(const std::string& path) {
+std::shared_ptr<const Image> readEnvironmentMap(const std::string& path, std::string* warning) {
   Image image;
   try {
     image = readImage(path);
@@ -69,13 +70,39 @@ std::shared_ptr<const Image> readEnvironmentMap(const std::string& path) {
     throw SceneError(e.what());
   }
   if (image.empty()) throw SceneError(path + ": the environment map is empty");
+  // Real maps carry a few texels below zero (the ringing of lossy compression, DWA's among
+  // them, next to black) and now and then one that is not finite: each such value reads as 0,
+  // and one warning says how many there were and where the first was.
+  size_t negative = 0, nonFinite = 0;
+  float lowest = 0.0f;
+  int firstX = -1, firstY = -1;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
-      const vec3 c = image.at(x, y);
-      if (!isFinite(c) || c.x < 0 || c.y < 0 || c.z < 0)
-        throw SceneError(path + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                         ") is not a finite, non-negative radiance");
+      vec3& c = image.pixels[size_t(y) * size_t(image.width) + size_t(x)];
+      bool repaired = false;
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(c[k])) {
+          ++nonFinite;
+        } else if (c[k] < 0.0f) {
+          ++negative;
+          lowest = std::min(lowest, c[k]);
+        } else {
+          continue;
+        }
+        c[k] = 0.0f;
+        repaired = true;
+      }
+      if (repaired && firstX < 0) firstX = x, firstY = y;
     }
+  if (firstX >= 0 && warning) {
+    std::ostringstream text;
+    text << path << ": " << negative << " negative and " << nonFinite
+         << " non-finite texel values read as 0 (the first at pixel (" << firstX << ", " << firstY
+         << ")";
+    if (negative > 0) text << "; the lowest " << lowest;
+    text << ")";
+    *warning = text.str();
+  }
   return std::make_shared<const Image>(std::move(image));
 }
 

@@ -56,9 +56,11 @@ struct Environment {
 };
 
 // Reads an environment map (.exr, .hdr, or any image readImage reads); throws SceneError
-// naming the file on a missing or unreadable file, an empty image, or a texel that is not a
-// finite, non-negative radiance.
-std::shared_ptr<const Image> readEnvironmentMap(const std::string& path);
+// naming the file on a missing or unreadable file or an empty image. A texel value below zero
+// or not finite reads as 0: `warning`, when given, then says how many and where the first was
+// (empty when there were none).
+std::shared_ptr<const Image> readEnvironmentMap(const std::string& path,
+                                                std::string* warning = nullptr);
 
 // The built-in neutral environment for an asset opened with no lights: a soft studio, a bright
 // upper hemisphere with a broad key light high at the front left and a dimmer floor, grey (no

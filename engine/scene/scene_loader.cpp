@@ -178,7 +178,9 @@ void readEnvironment(const Reader& r, const Json& node, Scene& scene) {
   Environment& e = scene.environment;
   e.file = r.filePath(node, f);
   try {
-    e.map = readEnvironmentMap(e.file);
+    std::string warning;
+    e.map = readEnvironmentMap(e.file, &warning);
+    if (!warning.empty()) scene.warnings.push_back(warning);
   } catch (const SceneError& error) {
     r.fail(f + ".file", error.what());
   }
@@ -741,7 +743,9 @@ void replaceEnvironment(Scene& scene, const std::string& file) {
     e = Environment{};
     return;
   }
-  e.map = readEnvironmentMap(file);
+  std::string warning;
+  e.map = readEnvironmentMap(file, &warning);
+  if (!warning.empty()) scene.warnings.push_back(warning);
   e.file = file;
   e.builtin = false;
   scene.sourceFiles.push_back(file);

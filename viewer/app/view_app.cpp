@@ -74,6 +74,7 @@ void ViewerApp::syncEnvironmentFields() {
 void ViewerApp::setEnvironment(EnvironmentEdit edit) {
   discardReload();  // it lit the scene the old way: read again with this edit
   std::shared_ptr<const PreparedScene> relit;
+  const size_t warningsBefore = options_.scene->scene.warnings.size();
   try {
     relit = relight(*options_.scene, edit);  // an empty file keeps the map: no read
   } catch (const std::exception& e) {
@@ -88,6 +89,9 @@ void ViewerApp::setEnvironment(EnvironmentEdit edit) {
   const Environment& e = options_.scene->scene.environment;
   message_ = !e.present() ? "no environment"
                           : "environment " + (e.builtin ? std::string("(built-in)") : e.file);
+  // What reading the map repaired (texels below zero or not finite, read as 0).
+  if (options_.scene->scene.warnings.size() > warningsBefore)
+    message_ += " (" + options_.scene->scene.warnings.back() + ")";
   restart();
 }
 

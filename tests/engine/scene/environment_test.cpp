@@ -1,6 +1,8 @@
 // The environment map: its direction convention, and its importance sampler checked against
 // the map (chi-square over the texels, pdfs that integrate to one and agree with the samples).
 #include "scene/environment.h"
+
+#include "core/image_io.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -189,6 +193,34 @@ TEST(Environment, BuiltinMapIsGreyBrighterAboveAndDeterministic) {
   for (const vec3& c : a->pixels) EXPECT_TRUE(c.x == c.y && c.y == c.z) << "not grey";
   EXPECT_GT(luminance(light.radiance({0, 1, 0})), 2 * luminance(light.radiance({0, -1, 0})));
   EXPECT_GT(light.integratedLuminance(), 0.0);
+}
+
+TEST(Environment, TexelsBelowZeroOrNotFiniteReadAsZeroWithAWarning) {
+  // Real maps have them: lossy compression (DWA) rings below zero next to a bright sun, by
+  // thousands where the sun is tens of thousands.
+  Image image(4, 2);
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = vec3(float(i) + 1.0f);
+  image.pixels[2] = vec3(5.0f, -3394.0f, 0.5f);
+  image.pixels[5] = vec3(std::numeric_limits<float>::quiet_NaN(), 2.0f, -0.25f);
+  image.pixels[6] = vec3(std::numeric_limits<float>::infinity());
+  const std::string path = test::outputPath("environment/repaired.exr");
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  writeImage(path, image);
+  std::string warning;
+  const std::shared_ptr<const Image> map = readEnvironmentMap(path, &warning);
+  for (size_t i : {0u, 1u, 3u, 4u, 7u}) EXPECT_EQ(map->pixels[i], image.pixels[i]) << i;
+  EXPECT_EQ(map->pixels[2], vec3(5.0f, 0.0f, 0.5f));
+  EXPECT_EQ(map->pixels[5], vec3(0.0f, 2.0f, 0.0f));
+  EXPECT_EQ(map->pixels[6], vec3(0.0f));
+  for (const char* part : {"repaired.exr", "2 negative and 4 non-finite texel values read as 0",
+                           "pixel (2, 0)", "the lowest -3394"})
+    EXPECT_NE(warning.find(part), std::string::npos) << "'" << part << "' not in: " << warning;
+  // A clean map gives no warning, and its light is the map's.
+  image.pixels[2] = image.pixels[5] = image.pixels[6] = vec3(1.0f);
+  writeImage(path, image);
+  warning = "stale";
+  EXPECT_EQ(readEnvironmentMap(path, &warning)->pixels, image.pixels);
+  EXPECT_EQ(warning, "stale") << "untouched without repairs";
 }
 
 }  // namespace
