@@ -20,7 +20,6 @@ std::string indexed(const char* array, size_t i) {
   return std::string(array) + "[" + std::to_string(i) + "]";
 }
 
-namespace {
 size_t componentBytes(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
@@ -38,6 +37,7 @@ size_t componentBytes(int type) {
   }
 }
 
+namespace {
 int componentCount(int type) {
   switch (type) {
     case TINYGLTF_TYPE_SCALAR:

@@ -23,6 +23,9 @@ std::string number(double v);
 // "array[i]".
 std::string indexed(const char* array, size_t i);
 
+// Bytes of one component of a glTF component type (5120-5126); 0 for any other.
+size_t componentBytes(int type);
+
 // An accessor's elements as doubles (normalised integers scaled to [0, 1] or [-1, 1]), after
 // checking every byte it reads lies inside its buffer view and buffer. A sparse accessor's
 // elements are its base's (zeros without a buffer view) with the listed ones replaced; its

@@ -14,12 +14,12 @@ namespace penumbra::gltf {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 uint32_t littleEndian32(const std::string& bytes, size_t at) {
   return uint32_t(uint8_t(bytes[at])) | uint32_t(uint8_t(bytes[at + 1])) << 8 |
          uint32_t(uint8_t(bytes[at + 2])) << 16 | uint32_t(uint8_t(bytes[at + 3])) << 24;
 }
+
+namespace {
 
 // Refuses a URI that names a network location (any scheme but data:) or an absolute path.
 void checkUri(const std::string& path, const std::string& where, const std::string& uri) {
@@ -76,15 +76,6 @@ std::vector<std::string> checkUris(const std::string& path, const std::string& j
     fail(path, "", std::string("invalid JSON: ") + e.what());
   }
   if (!root.is_object()) fail(path, "", "the top level is not a JSON object");
-  // Compressed meshes would read as zeros, or fail on a fallback buffer with no data: say what
-  // the file needs instead. (A file that only uses them keeps uncompressed data to fall back on.)
-  if (root.contains("extensionsRequired") && root["extensionsRequired"].is_array())
-    for (const auto& e : root["extensionsRequired"])
-      if (e == "KHR_draco_mesh_compression" || e == "EXT_meshopt_compression" ||
-          e == "KHR_meshopt_compression")
-        fail(path, "extensionsRequired",
-             "its meshes are compressed with " + e.get<std::string>() +
-                 ", which Penumbra does not decode; export the asset without mesh compression");
   for (const char* array : {"buffers", "images"}) {
     if (!root.contains(array) || !root[array].is_array()) continue;
     const auto& items = root[array];

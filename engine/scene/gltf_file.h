@@ -1,13 +1,18 @@
 // A glTF file's container for gltf_io.cpp: its bytes, the JSON of a .gltf or of a .glb's first
-// chunk, and the URIs of its buffers and images (data: or a relative path, nothing else), with
-// required mesh compressions refused. Errors name the file and the element. Internal to the
+// chunk, and the URIs of its buffers and images (data: or a relative path, nothing else).
+// Errors name the file and the element. Internal to the
 // glTF reader.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace penumbra::gltf {
+
+// The little-endian 32-bit number at byte `at` (at + 4 <= bytes.size()).
+uint32_t littleEndian32(const std::string& bytes, size_t at);
 
 // The whole file; throws SceneError naming it when it cannot be read.
 std::string readFileBytes(const std::string& path);
@@ -16,9 +21,8 @@ std::string readFileBytes(const std::string& path);
 // chunk, after its header is checked).
 std::string jsonText(const std::string& path, const std::string& bytes, bool binary);
 
-// Checks every buffer's and image's URI, and refuses a file that requires mesh compression;
-// returns the files the relative URIs name, and each image's URI (empty for one in a buffer
-// view) in `imageUris`.
+// Checks every buffer's and image's URI; returns the files the relative URIs name, and each image's
+// URI (empty for one in a buffer view) in `imageUris`.
 std::vector<std::string> checkUris(const std::string& path, const std::string& json,
                                    std::vector<std::string>& imageUris);
 

@@ -3,6 +3,7 @@
 #include "core/constants.h"
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_animation.h"
+#include "scene/gltf_compression.h"
 #include "scene/gltf_file.h"
 #include "scene/gltf_textures.h"
 
@@ -158,7 +159,7 @@ class Converter {
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
            e == "KHR_materials_ior" || e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
-           e == "KHR_mesh_quantization";
+           e == "KHR_mesh_quantization" || isMeshCompression(e);
   }
 
   void warn(const std::string& message) {
@@ -714,7 +715,12 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   // Released once tinygltf has its own copy of the buffers (a .glb's can be most of the file).
   std::string bytes = readFileBytes(path);
   std::vector<std::string> imageUris;
-  const std::vector<std::string> files = checkUris(path, jsonText(path, bytes, binary), imageUris);
+  std::string json = jsonText(path, bytes, binary);
+  const std::vector<std::string> files = checkUris(path, json, imageUris);
+  // Compressed meshes leave data out that tinygltf insists on: stubbed here, decoded after.
+  const CompressionStubs stubs = stubCompressedData(path, json, binary);
+  if (!stubs.empty()) bytes = binary ? replaceGlbJson(bytes, json) : json;
+  std::string().swap(json);
 
   tinygltf::TinyGLTF loader;
   ImagesNotRead imagesNotRead;
@@ -740,6 +746,8 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
     }
     fail(path, "", err.empty() ? "cannot parse file" : err);
   }
+
+  decodeCompressedMeshes(path, model, stubs);
 
   GltfData out;
   out.files = files;

@@ -3,7 +3,12 @@
 // Usage: make_seeds FOLDER   (creates FOLDER/obj, mtl, ply, exr, png, pfm)
 #include "core/image.h"
 #include "core/image_io.h"
+#include "tests/engine/scene/draco_encode.h"
 
+#include <meshoptimizer.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -69,14 +74,9 @@ const char* const kTriangleGlbJson =
 const char* const kFeaturesGltf =
     R"(){"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1,2,3]}],"nodes":[{"mesh":0,"translation":[0,0,-1]},{"camera":0,"translation":[0,0,3]},{"translation":[0,2,0],"rotation":[-0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":0}}},{"extensions":{"KHR_lights_punctual":{"light":1}}}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1,"material":0}]}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0.5,"roughnessFactor":0.4},"normalTexture":{"index":1,"scale":0.8},"alphaMode":"MASK","alphaCutoff":0.5,"emissiveFactor":[1,1,1],"emissiveTexture":{"index":0},"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":2},"KHR_materials_transmission":{"transmissionFactor":0.3}}}],"textures":[{"source":0},{"source":1}],"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAYAAAD0In+KAAAAEElEQVR4nGP4zwAE/xn+AwAL/QL+6O7ISQAAAABJRU5ErkJggg=="},{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGNoOHECAAPcAhH5w/3PAAAAAElFTkSuQmCC"}],"extensionsUsed":["KHR_lights_punctual","KHR_materials_emissive_strength","KHR_materials_transmission"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"spot","intensity":5,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.5}},{"type":"directional","color":[1,0.9,0.8],"intensity":2}]}},"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":1,"target":{"node":0,"path":"rotation"}}],"samplers":[{"input":3,"output":4,"interpolation":"LINEAR"},{"input":3,"output":5,"interpolation":"STEP"}]}],"buffers":[{"byteLength":132,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAA9AQ1PwAAAAD0BDU/"}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6},{"buffer":0,"byteOffset":44,"byteLength":24},{"buffer":0,"byteOffset":68,"byteLength":8},{"buffer":0,"byteOffset":76,"byteLength":24},{"buffer":0,"byteOffset":100,"byteLength":32}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},{"bufferView":3,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":4,"componentType":5126,"count":2,"type":"VEC3"},{"bufferView":5,"componentType":5126,"count":2,"type":"VEC4"}]})";
 
-std::string triangleGlb() {
-  std::string bin;
-  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  const uint16_t indices[4] = {0, 1, 2, 0};  // the last is padding to 4 bytes
-  bin.append(reinterpret_cast<const char*>(positions), sizeof positions);
-  bin.append(reinterpret_cast<const char*>(indices), sizeof indices);
-  std::string json = kTriangleGlbJson;
+std::string glbOf(std::string json, std::string bin) {
   while (json.size() % 4) json += ' ';
+  while (bin.size() % 4) bin += '\0';
   std::string glb = "glTF";
   auto put = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
   put(2);
@@ -88,6 +88,65 @@ std::string triangleGlb() {
   put(0x004E4942u);  // "BIN"
   glb += bin;
   return glb;
+}
+
+std::string triangleGlb() {
+  std::string bin;
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint16_t indices[4] = {0, 1, 2, 0};  // the last is padding to 4 bytes
+  bin.append(reinterpret_cast<const char*>(positions), sizeof positions);
+  bin.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  return glbOf(kTriangleGlbJson, bin);
+}
+
+// The .glb triangle with its positions and indices meshopt-compressed into the binary chunk, the
+// views in a fallback buffer with no data; and with the triangle Draco-compressed.
+std::string compressedTriangleGlb(bool draco) {
+  nlohmann::json j = nlohmann::json::parse(kTriangleGlbJson);
+  const std::vector<std::array<float, 3>> positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<uint32_t> indices = {0, 1, 2};
+  std::string bin;
+  if (draco) {
+    const test::DracoEncoded d = test::encodeDraco(positions, {{0, 0}, {1, 0}, {0, 1}}, indices);
+    bin = d.bytes;
+    j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+    j["meshes"][0]["primitives"][0]["extensions"] = {
+        {"KHR_draco_mesh_compression",
+         {{"bufferView", 0},
+          {"attributes", {{"POSITION", d.positionId}, {"TEXCOORD_0", d.uvId}}}}}};
+    j["accessors"] = {{{"componentType", 5126}, {"count", d.points}, {"type", "VEC3"}},
+                      {{"componentType", 5123}, {"count", d.faces * 3}, {"type", "SCALAR"}},
+                      {{"componentType", 5126}, {"count", d.points}, {"type", "VEC2"}}};
+    j["bufferViews"] = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}};
+    j["buffers"] = {{{"byteLength", bin.size()}}};
+    j["extensionsUsed"] = j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    return glbOf(j.dump(), bin);
+  }
+  std::vector<unsigned char> v(meshopt_encodeVertexBufferBound(3, 12));
+  v.resize(meshopt_encodeVertexBuffer(v.data(), v.size(), positions.data(), 3, 12));
+  std::vector<unsigned char> t(meshopt_encodeIndexBufferBound(3, 3));
+  t.resize(meshopt_encodeIndexBuffer(t.data(), t.size(), indices.data(), 3));
+  bin.assign(v.begin(), v.end());
+  while (bin.size() % 4) bin += '\0';
+  const size_t at = bin.size();
+  bin.append(t.begin(), t.end());
+  auto ext = [](size_t offset, size_t length, int stride, const char* mode) {
+    return nlohmann::json{{"EXT_meshopt_compression",
+                           {{"buffer", 0},
+                            {"byteOffset", offset},
+                            {"byteLength", length},
+                            {"byteStride", stride},
+                            {"count", 3},
+                            {"mode", mode}}}};
+  };
+  j["bufferViews"][0]["buffer"] = j["bufferViews"][1]["buffer"] = 1;
+  j["bufferViews"][0]["extensions"] = ext(0, v.size(), 12, "ATTRIBUTES");
+  j["bufferViews"][1]["extensions"] = ext(at, t.size(), 2, "TRIANGLES");
+  j["buffers"] = {
+      {{"byteLength", bin.size()}},
+      {{"byteLength", 44}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+  j["extensionsUsed"] = j["extensionsRequired"] = {"EXT_meshopt_compression"};
+  return glbOf(j.dump(), bin);
 }
 
 Image gradient(int w, int h) {
@@ -123,6 +182,8 @@ int main(int argc, char** argv) {
   writeBytes(root / "gltf" / "triangle.gltf", kTriangleGltf);
   writeBytes(root / "gltf" / "triangle.glb", triangleGlb());
   writeBytes(root / "gltf" / "features.gltf", kFeaturesGltf);
+  writeBytes(root / "gltf" / "meshopt.glb", compressedTriangleGlb(false));
+  writeBytes(root / "gltf" / "draco.glb", compressedTriangleGlb(true));
 
   const Image image = gradient(4, 3);
   writeImage((root / "exr" / "gradient.exr").string(), image);

@@ -496,22 +496,6 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
 }
 
-TEST(Gltf, CompressedMeshesThatAreRequiredAreAnErrorNamingTheCompression) {
-  const std::string buffer = quadBuffer();
-  for (const char* compression : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
-    Json j = quadGltf(dataUri(buffer), buffer.size());
-    j["extensionsUsed"].push_back(compression);
-    // Only used: the uncompressed data is there; it renders, with a warning.
-    const GltfData g = loadGltf(writeGltf("used.gltf", j));
-    EXPECT_EQ(g.mesh.triangleCount(), 4u);
-    ASSERT_FALSE(g.warnings.empty());
-    EXPECT_NE(g.warnings.back().find(compression), std::string::npos);
-    j["extensionsRequired"] = {compression};
-    expectSceneError([&] { loadGltf(writeGltf("required.gltf", j)); },
-                     {"required.gltf", "extensionsRequired", compression, "does not decode"});
-  }
-}
-
 TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
   const std::string buffer = quadBuffer();
   writeGltf("include/quad.gltf", quadGltf(dataUri(buffer), buffer.size()));
