@@ -21,7 +21,7 @@ packages=(
   build-essential cmake pkg-config ninja-build
   libembree-dev libtbb-dev libglm-dev
   nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libtinygltf-dev libopenexr-dev libstb-dev
-  libdraco-dev libmeshoptimizer-dev
+  libdraco-dev libmeshoptimizer-dev libwebp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libimgui-dev python3-glad
   libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libosmesa6-dev

@@ -66,6 +66,20 @@ std::string jsonText(const std::string& path, const std::string& bytes, bool bin
 
 // Checks every buffer's and image's URI; returns the files the relative ones name, and each
 // image's URI (empty for one in a buffer view) in `imageUris`.
+bool relabelDataUris(std::string& json) {
+  bool changed = false;
+  for (const char* type : {"image/webp", "image/ktx2", "image/avif"}) {
+    const std::string from = std::string("\"data:") + type + ";base64,";
+    const std::string to = "\"data:application/octet-stream;base64,";
+    for (size_t at = json.find(from); at != std::string::npos; at = json.find(from, at)) {
+      json.replace(at, from.size(), to);
+      at += to.size();
+      changed = true;
+    }
+  }
+  return changed;
+}
+
 std::vector<std::string> checkUris(const std::string& path, const std::string& json,
                                    std::vector<std::string>& imageUris) {
   std::vector<std::string> files;

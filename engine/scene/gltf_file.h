@@ -21,6 +21,11 @@ std::string readFileBytes(const std::string& path);
 // chunk, after its header is checked).
 std::string jsonText(const std::string& path, const std::string& bytes, bool binary);
 
+// tinygltf decodes data: URIs of a few MIME types only and takes the others for file names:
+// relabels those of image/webp, image/ktx2 and image/avif as application/octet-stream (an
+// image's contents decide its format). Returns whether it changed `json`.
+bool relabelDataUris(std::string& json);
+
 // Checks every buffer's and image's URI; returns the files the relative URIs name, and each image's
 // URI (empty for one in a buffer view) in `imageUris`.
 std::vector<std::string> checkUris(const std::string& path, const std::string& json,

@@ -159,7 +159,7 @@ class Converter {
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
            e == "KHR_materials_ior" || e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
-           e == "KHR_mesh_quantization" || isMeshCompression(e);
+           e == "KHR_mesh_quantization" || e == kWebpExtension || isMeshCompression(e);
   }
 
   void warn(const std::string& message) {
@@ -186,14 +186,29 @@ class Converter {
     return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
   }
 
+  // The image a texture reads: EXT_texture_webp's when it names one (a fallback in `source`
+  // is for viewers that read no WebP), else `source`.
+  int textureSource(const tinygltf::Texture& t, const std::string& where) {
+    const auto webp = t.extensions.find(kWebpExtension);
+    if (webp == t.extensions.end() || !webp->second.IsObject() || !webp->second.Has("source"))
+      return t.source;
+    const tinygltf::Value& source = webp->second.Get("source");
+    if (!source.IsInt() || source.GetNumberAsInt() < 0 ||
+        size_t(source.GetNumberAsInt()) >= model_.images.size())
+      fail(path_, where + ".extensions." + kWebpExtension + ".source",
+           "image " + (source.IsNumber() ? number(source.GetNumberAsDouble()) : "?") +
+               " does not exist");
+    return source.GetNumberAsInt();
+  }
+
   int texture(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
               const std::string& where, Texels texels, vec3 factor) {
     if (index < 0) return -1;
     if (size_t(index) >= model_.textures.size())
       fail(path_, where, "texture " + std::to_string(index) + " does not exist");
     const tinygltf::Texture& gltfTexture = model_.textures[size_t(index)];
-    const int source = gltfTexture.source;
     const std::string textureWhere = indexed("textures", size_t(index));
+    const int source = textureSource(gltfTexture, textureWhere);
     if (source < 0 || size_t(source) >= model_.images.size()) {
       // An image only in an extension's format: left out, the factor alone is used.
       for (const char* e : kImageFormatExtensions)
@@ -717,9 +732,11 @@ GltfData loadGltf(const std::string& path, const GltfOptions& options) {
   std::vector<std::string> imageUris;
   std::string json = jsonText(path, bytes, binary);
   const std::vector<std::string> files = checkUris(path, json, imageUris);
-  // Compressed meshes leave data out that tinygltf insists on: stubbed here, decoded after.
+  // Compressed meshes leave data out that tinygltf insists on: stubbed here, decoded after. Data
+  // URIs of image types tinygltf does not know are relabelled.
   const CompressionStubs stubs = stubCompressedData(path, json, binary);
-  if (!stubs.empty()) bytes = binary ? replaceGlbJson(bytes, json) : json;
+  const bool relabelled = relabelDataUris(json);
+  if (!stubs.empty() || relabelled) bytes = binary ? replaceGlbJson(bytes, json) : json;
   std::string().swap(json);
 
   tinygltf::TinyGLTF loader;

@@ -3,6 +3,7 @@
 #include "scene/gltf_accessors.h"
 
 #include "core/image_io.h"
+#include "core/image_webp.h"
 
 #include <glm/vec2.hpp>
 
@@ -22,12 +23,9 @@ bool hasMagic(const unsigned char* bytes, size_t size, size_t at, const char* ma
   return size >= at + length && std::memcmp(bytes + at, magic, length) == 0;
 }
 
-// The format of an extension's image ("WebP", "KTX2", "AVIF") by its contents or its MIME
-// type; null for any other.
+// The format of an extension's image that is not read ("KTX2", "AVIF") by its contents or its
+// MIME type; null for any other.
 const char* extensionFormat(const unsigned char* bytes, size_t size, const std::string& mime) {
-  if ((hasMagic(bytes, size, 0, "RIFF") && hasMagic(bytes, size, 8, "WEBP")) ||
-      mime == "image/webp")
-    return "WebP";
   if (hasMagic(bytes, size, 0, "\xabKTX 20\xbb") || mime == "image/ktx2") return "KTX2";
   if (hasMagic(bytes, size, 4, "ftypavi") || mime == "image/avif") return "AVIF";
   return nullptr;
@@ -44,8 +42,9 @@ bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::str
   }
   try {
     // Checked now, decoded when converted (imageFromGltf): one decoded image at a time.
-    const DecodedImage header =
-        inspectPngOrJpeg(indexed("images", size_t(std::max(index, 0))), bytes, length);
+    const std::string name = indexed("images", size_t(std::max(index, 0)));
+    const DecodedImage header = isWebp(bytes, length) ? inspectWebp(name, bytes, length)
+                                                      : inspectPngOrJpeg(name, bytes, length);
     image->width = header.width;
     image->height = header.height;
     image->component = header.channels;
@@ -68,7 +67,10 @@ TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& sourc
   DecodedImage decoded;
   if (source.as_is) {
     try {
-      decoded = decodePngOrJpeg(where, source.image.data(), source.image.size());
+      const unsigned char* bytes = source.image.data();
+      const size_t size = source.image.size();
+      decoded = isWebp(bytes, size) ? decodeWebp(where, bytes, size)
+                                    : decodePngOrJpeg(where, bytes, size);
     } catch (const ImageIoError& e) {
       fail(path, "", e.what());
     }

@@ -23,16 +23,18 @@ enum class Texels { Color, Data, Alpha };
 TextureImage imageFromGltf(const std::string& path, const tinygltf::Image& source, size_t index,
                            Texels texels);
 
-// The images tinygltf left undecoded, by index: their format ("WebP", "KTX2", "AVIF").
+// The images tinygltf left undecoded, by index: their format ("KTX2", "AVIF").
 using ImagesNotRead = std::map<int, std::string>;
 // The extensions that give a texture an image in one of those formats.
-inline constexpr const char* kImageFormatExtensions[] = {"KHR_texture_basisu", "EXT_texture_webp",
-                                                         "EXT_texture_avif"};
+inline constexpr const char* kImageFormatExtensions[] = {"KHR_texture_basisu", "EXT_texture_avif"};
+// The extension that gives a texture a WebP image, which is read (core/image_webp.h).
+inline constexpr const char* kWebpExtension = "EXT_texture_webp";
 
-// tinygltf's image loader (TinyGLTF::SetImageLoader, `user` an ImagesNotRead): PNG and JPEG
-// decoded by decodePngOrJpeg (its checks against damaged files; 8 or 16 bits, the channels as
-// stored); WebP, KTX2 and AVIF, the formats of extensions, left undecoded and noted, so that
-// a texture with a PNG or JPEG fallback still loads; anything else an error naming the image.
+// tinygltf's image loader (TinyGLTF::SetImageLoader, `user` an ImagesNotRead): PNG, JPEG and
+// WebP checked now and decoded when converted (decodePngOrJpeg, decodeWebp: their checks
+// against damaged files; 8 or 16 bits, the channels as stored); KTX2 and AVIF, the formats of
+// extensions, left undecoded and noted, so that a texture with a PNG or JPEG fallback still
+// loads; anything else an error naming the image.
 bool loadGltfImage(tinygltf::Image* image, int index, std::string* err, std::string* warn,
                    int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
                    void* user);

@@ -6,6 +6,7 @@
 #include "tests/engine/scene/draco_encode.h"
 
 #include <meshoptimizer.h>
+#include <webp/encode.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -99,6 +100,32 @@ std::string triangleGlb() {
   return glbOf(kTriangleGlbJson, bin);
 }
 
+// The triangle textured with a 2 x 1 lossless WebP image (EXT_texture_webp), in a data: URI.
+std::string webpTriangleGltf() {
+  nlohmann::json j = nlohmann::json::parse(kTriangleGltf);
+  const uint8_t rgb[6] = {255, 0, 0, 0, 0, 255};
+  uint8_t* webp = nullptr;
+  const size_t size = WebPEncodeLosslessRGB(rgb, 2, 1, 6, &webp);
+  const std::string bytes(reinterpret_cast<const char*>(webp), size);
+  WebPFree(webp);
+  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string base64;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
+    base64 += kDigits[(v >> 18) & 63];
+    base64 += kDigits[(v >> 12) & 63];
+    base64 += i + 1 < bytes.size() ? kDigits[(v >> 6) & 63] : '=';
+    base64 += i + 2 < bytes.size() ? kDigits[v & 63] : '=';
+  }
+  j["images"] = {{{"uri", "data:image/webp;base64," + base64}}};
+  j["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  j["extensionsUsed"] = j["extensionsRequired"] = {"EXT_texture_webp"};
+  return j.dump();
+}
+
 // The .glb triangle with its positions and indices meshopt-compressed into the binary chunk, the
 // views in a fallback buffer with no data; and with the triangle Draco-compressed.
 std::string compressedTriangleGlb(bool draco) {
@@ -184,6 +211,7 @@ int main(int argc, char** argv) {
   writeBytes(root / "gltf" / "features.gltf", kFeaturesGltf);
   writeBytes(root / "gltf" / "meshopt.glb", compressedTriangleGlb(false));
   writeBytes(root / "gltf" / "draco.glb", compressedTriangleGlb(true));
+  writeBytes(root / "gltf" / "webp.gltf", webpTriangleGltf());
 
   const Image image = gradient(4, 3);
   writeImage((root / "exr" / "gradient.exr").string(), image);

@@ -1,7 +1,7 @@
 // glTF textures: images kept at their bit depth with their factors at lookup, normal maps,
 // cut-out and blended coverage, emission textures, samplers' wrap modes, KHR_texture_transform,
-// images in formats that are not read (WebP, KTX2: left out, their fallbacks read) and images
-// that are refused (not PNG or JPEG, damaged, missing).
+// WebP images (EXT_texture_webp), images in formats that are not read (KTX2: left out, their
+// fallbacks read) and images that are refused (not PNG, JPEG or WebP, damaged, missing).
 #include "scene/gltf_io.h"
 
 #include "scene/scene_loader.h"
@@ -13,6 +13,7 @@
 #include "tests/engine/scene/gltf_test_files.h"
 
 #include <gtest/gtest.h>
+#include <webp/encode.h>
 
 #include <cstdint>
 #include <string>
@@ -242,21 +243,30 @@ TEST(GltfTextures, BlendedMaterialsStopRaysAsOftenAsTheirCoverage) {
   for (const std::string& w : g.warnings) EXPECT_EQ(w.find("BLEND"), std::string::npos) << w;
 }
 
-TEST(GltfTextures, ImagesInExtensionFormatsAreLeftOutWithAWarningAndTheirFallbacksRead) {
+// A lossless WebP of w x h RGB texels, as a data: URI.
+std::string webpUri(int w, int h, const std::vector<uint8_t>& rgb) {
+  uint8_t* out = nullptr;
+  const size_t size = WebPEncodeLosslessRGB(rgb.data(), w, h, 3 * w, &out);
+  const std::string bytes(reinterpret_cast<const char*>(out), size);
+  WebPFree(out);
+  EXPECT_GT(size, 0u);
+  return "data:image/webp;base64," + base64(bytes);
+}
+
+TEST(GltfTextures, WebpImagesAreReadAndKtx2OnesLeftOutWithTheirFallbacksRead) {
   const std::string buffer = quadBuffer();
   const std::string png = pngUri(1, 1, 3, {255, 0, 0});
-  // Contents whose magic is WebP's and KTX2's (a data: URI's type is not what decides).
-  const std::string webp =
-      "data:image/png;base64," + base64(std::string("RIFF\x10\0\0\0WEBPVP8 ", 16));
+  const std::string webp = webpUri(2, 1, {0, 255, 0, 0, 0, 255});  // green, blue
+  // Contents whose magic is KTX2's (a data: URI's type is not what decides).
   const std::string ktx2 =
       "data:image/png;base64," + base64(std::string("\xabKTX 20\xbb\r\n\x1a\n\0\0\0\0", 16));
   Json j = quadGltf(dataUri(buffer), buffer.size());
   j["images"] = {{{"uri", webp}}, {{"uri", png}}, {{"uri", ktx2}}};
-  j["textures"] = {// WebP with a PNG fallback: the PNG is read.
+  j["textures"] = {// WebP with a PNG fallback: the WebP is read.
                    {{"source", 1}, {"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}},
                    // KTX2 only, through the extension: left out.
                    {{"extensions", {{"KHR_texture_basisu", {{"source", 2}}}}}},
-                   // A WebP image as the texture's own source: left out.
+                   // A WebP image as the texture's own source: read too.
                    {{"source", 0}}};
   j["extensionsUsed"].push_back("EXT_texture_webp");
   j["extensionsUsed"].push_back("KHR_texture_basisu");
@@ -264,17 +274,33 @@ TEST(GltfTextures, ImagesInExtensionFormatsAreLeftOutWithAWarningAndTheirFallbac
   j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 1}};
   j["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 2}};
   const GltfData g = loadGltf(writeGltf("formats.gltf", j));
-  ASSERT_GE(g.materials[0].albedoTexture, 0);
-  const Texture& fallback = g.textures[size_t(g.materials[0].albedoTexture)];
-  EXPECT_EQ(textureTexel(g.images[size_t(fallback.imageIndex)], 0, 0, 0), vec3(1, 0, 0));
+  for (size_t m : {0u, 3u}) {
+    ASSERT_GE(g.materials[m].albedoTexture, 0) << m;
+    const TextureImage& image =
+        g.images[size_t(g.textures[size_t(g.materials[m].albedoTexture)].imageIndex)];
+    EXPECT_EQ(image.width(), 2) << m;
+    EXPECT_EQ(textureTexel(image, 0, 0, 0), vec3(0, 1, 0)) << m;
+    EXPECT_EQ(textureTexel(image, 0, 1, 0), vec3(0, 0, 1)) << m;
+  }
   EXPECT_EQ(g.materials[1].albedoTexture, -1);
-  EXPECT_EQ(g.materials[3].albedoTexture, -1);
   std::string all;
   for (const std::string& w : g.warnings) all += w + "\n";
-  for (const char* part : {"textures[1]: its image is only in KHR_texture_basisu's format",
-                           "textures[2]: images[0] is WebP, which is not read"})
-    EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
+  EXPECT_NE(all.find("textures[1]: its image is only in KHR_texture_basisu's format"),
+            std::string::npos)
+      << all;
   EXPECT_EQ(all.find("textures[0]"), std::string::npos) << all;
+  EXPECT_EQ(all.find("textures[2]"), std::string::npos) << all;
+  EXPECT_EQ(all.find("EXT_texture_webp"), std::string::npos) << all;
+
+  // A damaged WebP, and an extension naming an image that does not exist: errors naming them.
+  j["images"][0]["uri"] =
+      "data:image/png;base64," + base64(std::string("RIFF\x10\0\0\0WEBPVP8 ", 16));
+  expectSceneError([&] { loadGltf(writeGltf("damaged.gltf", j)); },
+                   {"damaged.gltf", "images[0]", "WebP"});
+  j["images"][0]["uri"] = webp;
+  j["textures"][0]["extensions"]["EXT_texture_webp"]["source"] = 7;
+  expectSceneError([&] { loadGltf(writeGltf("missing.gltf", j)); },
+                   {"missing.gltf", "textures[0].extensions.EXT_texture_webp.source", "image 7"});
 }
 
 TEST(GltfTextures, ImagesThatAreNotPngOrJpegAreAnErrorNamingThem) {
