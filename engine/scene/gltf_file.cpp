@@ -37,6 +37,23 @@ void checkUri(const std::string& path, const std::string& where, const std::stri
     fail(path, where, "URI '" + uri + "' is an absolute path; only relative paths are read");
 }
 
+// A URI's %XX escapes decoded, as tinygltf reads the file ("my%20tex.png" is "my tex.png",
+// which Blender's exporter writes for a texture named with spaces); other text as it is.
+std::string percentDecoded(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string readFileBytes(const std::string& path) {
@@ -101,7 +118,8 @@ std::vector<std::string> checkUris(const std::string& path, const std::string& j
         if (images && uri.rfind("data:", 0) != 0) imageUris[i] = uri;
         checkUri(path, indexed(array, i) + ".uri", uri);
         if (uri.rfind("data:", 0) != 0)
-          files.push_back((fs::path(path).parent_path() / uri).lexically_normal().string());
+          files.push_back(
+              (fs::path(path).parent_path() / percentDecoded(uri)).lexically_normal().string());
       }
   }
   return files;

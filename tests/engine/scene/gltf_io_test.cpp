@@ -112,6 +112,14 @@ TEST(Gltf, BinaryContainerAndRelativeBuffer) {
   EXPECT_EQ(loadGltf(writeGltf("sub/quad.gltf", quadGltf("quad.bin", buffer.size())))
                 .mesh.triangleCount(),
             4u);
+  // A file name with a space, percent-encoded in the URI as exporters write it: read, and the
+  // file listed (for live reload) by its own name.
+  const std::string spaced = writeFile("sub/my quad.bin", buffer);
+  const GltfData g =
+      loadGltf(writeGltf("sub/spaced.gltf", quadGltf("my%20quad.bin", buffer.size())));
+  EXPECT_EQ(g.mesh.triangleCount(), 4u);
+  ASSERT_EQ(g.files.size(), 1u);
+  EXPECT_EQ(std::filesystem::path(g.files[0]), std::filesystem::path(spaced).lexically_normal());
 }
 
 TEST(Gltf, NetworkAndAbsoluteUrisAreRefused) {
