@@ -54,6 +54,33 @@ float conductorPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   return ggxD(h, b.alpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
 }
 
+// glTF's dielectric base of a Pbr material (the specification's fresnel_mix): the diffuse
+// colour under an untinted GGX specular layer of the same roughness, mixed by the Fresnel
+// reflectance at the half vector, F = f0 + (1 - f0)(1 - |wo.h|)^5 with f0 from the ior (0.04 at
+// 1.5): f = (1 - F) color / pi + F D G / (4 |wo.n| |wi.n|). Times cos(wi).
+float baseF0(const SurfaceBsdf& b) {
+  const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
+  return r * r;
+}
+
+vec3 baseEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  const vec3 h = glm::normalize(wo + wi);
+  const float f = schlick(vec3(baseF0(b)), glm::dot(wo, h)).x;
+  const float specular = ggxD(h, b.alpha) * ggxG(wo, wi, b.alpha) / (4.0f * wo.z);
+  return (1.0f - f) * b.color * (kInvPi * wi.z) + vec3(f * specular);
+}
+
+// The chance that sampling the base draws its specular layer: its Fresnel weight seen from wo,
+// at least a quarter so that glossy reflections of the environment are found often.
+float baseSpecularChance(const SurfaceBsdf& b, vec3 wo) {
+  return std::clamp(schlick(vec3(baseF0(b)), wo.z).x, 0.25f, 0.9f);
+}
+
+float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  const float s = baseSpecularChance(b, wo);
+  return (1.0f - s) * wi.z * kInvPi + s * conductorPdf(b, wo, wi);
+}
+
 // Local-space (n = +z) helpers. Diffuse and conductor are two-sided: wo below the
 // surface is handled by mirroring both directions to the upper side.
 vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
@@ -69,7 +96,7 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       return conductorEval(b, wo, wi);
     case Material::Type::Pbr: {
       vec3 f(0.0f);
-      if (b.diffuseWeight > 0) f += b.diffuseWeight * b.color * (kInvPi * wi.z);
+      if (b.diffuseWeight > 0) f += b.diffuseWeight * baseEval(b, wo, wi);
       if (b.conductorWeight > 0) f += b.conductorWeight * conductorEval(b, wo, wi);
       return f;
     }
@@ -91,7 +118,7 @@ float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       return conductorPdf(b, wo, wi);
     case Material::Type::Pbr: {
       float pdf = 0;
-      if (b.diffuseWeight > 0) pdf += b.diffuseWeight * wi.z * kInvPi;
+      if (b.diffuseWeight > 0) pdf += b.diffuseWeight * basePdf(b, wo, wi);
       if (b.conductorWeight > 0) pdf += b.conductorWeight * conductorPdf(b, wo, wi);
       return pdf;
     }
@@ -211,7 +238,12 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       const float rest = b.diffuseWeight + b.conductorWeight;
       if (!(rest > 0)) return false;
       const float v = std::min((uc - b.dielectricWeight) / rest, 0.99999994f);
-      if (v < b.conductorWeight / rest) {
+      // Within the base, v stretched again picks its specular layer or its diffuse part.
+      const float conductor = b.conductorWeight / rest;
+      const bool glossy =
+          v < conductor || (v - conductor) / (1.0f - conductor) <
+                               baseSpecularChance(b, vec3(wo.x, wo.y, std::abs(wo.z)));
+      if (glossy) {
         const vec3 h = sampleGgxHalfVector(b.alpha, u, side);
         wi = 2.0f * glm::dot(wo, h) * h - wo;
         if (wi.z * wo.z <= 0) return false;

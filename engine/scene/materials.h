@@ -1,6 +1,7 @@
 // BSDFs of the material kinds: Lambertian diffuse, rough conductor (GGX microfacets, Smith
-// shadowing, Schlick Fresnel), ideal mirror, smooth dielectric, and Pbr: a mix of diffuse,
-// conductor and dielectric by weight, sampled by picking one part by its weight.
+// shadowing, Schlick Fresnel), ideal mirror, smooth dielectric, and Pbr: glTF's
+// metallic-roughness model, a mix by weight of a conductor, glass and a dielectric base (diffuse
+// under an untinted GGX layer, mixed by Fresnel), sampled by picking one part by its weight.
 // Emission is a property of any material (Material::emission). Directions are in
 // world space; wo points away from the surface towards the previous vertex.
 #pragma once
@@ -23,8 +24,9 @@ struct SurfaceBsdf {
   vec3 color = vec3(0.8f);  // diffuse albedo or specular tint
   float alpha = 0.04f;      // GGX alpha (conductor)
   float ior = 1.5f;
-  // Pbr: the parts' weights (sum 1). Evaluation and the pdf cover the diffuse and conductor
-  // parts (the dielectric one is specular).
+  // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
+  // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
+  // specular).
   float diffuseWeight = 0, conductorWeight = 0, dielectricWeight = 0;
   ShadingFrame frame;
   vec3 geometricNormal;  // unit, the triangle's counter-clockwise normal

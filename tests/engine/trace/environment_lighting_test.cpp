@@ -87,6 +87,52 @@ TEST(EnvironmentLighting, WhiteFurnaceUnderAConstantMap) {
   EXPECT_LT(s.standardError, 0.01);
 }
 
+// A black pbr plane (albedo 0: only its specular layer reflects) of roughness 0.05 under a
+// constant map of radiance 1, seen at `degrees` from its normal, direct light only: the mean
+// radiance, which is the layer's directional albedo there.
+Stats glossyBlackPlane(float degrees, float ior) {
+  const float a = degrees * float(kPiD) / 180.0f;
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8, "max_depth": 1},
+    "camera": {"eye": [0, )" +
+                          std::to_string(5 * std::cos(a)) + ", " + std::to_string(5 * std::sin(a)) +
+                          R"(], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 1},
+    "materials": {"ground": {"type": "pbr", "albedo": 0, "roughness": 0.05, "ior": )" +
+                          std::to_string(ior) + R"(}},
+    "objects": [{"shape": "rectangle", "size": [100, 100], "material": "ground"}]})");
+  setEnvironment(scene, Image(8, 4, vec3(1.0f)));
+  return pixelStats(test::renderScene(std::move(scene), 256, SamplerKind::Independent, kSeed));
+}
+
+TEST(EnvironmentLighting, GltfDielectricsReflectTheirFresnelShareOfTheSky) {
+  // glTF's dielectric base has a specular layer: black plastic of ior 1.5 reflects
+  // ((1.5 - 1) / (1.5 + 1))^2 = 4 % of a uniform sky straight on, and more towards grazing
+  // (Schlick: 0.04 + 0.96 (1 - cos 75)^5 = 0.25 at 75 degrees, less the rough layer's
+  // shadowing). With ior 1 the layer's f0 is 0 and straight on it reflects next to nothing
+  // (Schlick's (1 - cos)^5 of the rare steep microfacets).
+  const Stats normal = glossyBlackPlane(0.0f, 1.5f);
+  EXPECT_NEAR(normal.mean, 0.04, std::max(4 * normal.standardError, 2e-3));
+  const Stats grazing = glossyBlackPlane(75.0f, 1.5f);
+  EXPECT_NEAR(grazing.mean, 0.25, 0.03);
+  EXPECT_LT(glossyBlackPlane(0.0f, 1.0f).mean, 1e-6);
+}
+
+TEST(EnvironmentLighting, PbrBaseUnderAConstantMapLosesNoMoreThanItsFresnelShare) {
+  // A white dielectric base (albedo 1) under a constant sky of 1: the diffuse part carries
+  // 1 - F of the light and the layer F, so nearly all of it comes back (glTF's fresnel_mix is
+  // not exactly energy-conserving: between 1 - F(0) and 1).
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 8, "height": 8, "max_depth": 1},
+    "camera": {"eye": [0, 5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 1},
+    "materials": {"ground": {"type": "pbr", "albedo": 1, "roughness": 0.4}},
+    "objects": [{"shape": "rectangle", "size": [100, 100], "material": "ground"}]})");
+  setEnvironment(scene, Image(8, 4, vec3(1.0f)));
+  const Stats s =
+      pixelStats(test::renderScene(std::move(scene), 256, SamplerKind::Independent, kSeed));
+  EXPECT_GT(s.mean, 0.95 - 4 * s.standardError);
+  EXPECT_LT(s.mean, 1.0 + 4 * s.standardError);
+}
+
 TEST(EnvironmentLighting, PlaneUnderAnElevationOnlyMapMatchesTheCosineIntegral) {
   // L = 1 + 3 cos^2 theta above the horizon, 0.2 below: L_plane = albedo / pi x 2 pi x
   // integral_0^1 (1 + 3 mu^2) mu dmu = 2 albedo (1/2 + 3/4) = 1.25 for albedo 0.5. Fine rows

@@ -264,7 +264,9 @@ ImageMean planeUnderDisk(const std::string& material,
 }
 
 TEST(Integrator, PbrMaterialIsTheWeightedMixOfItsParts) {
-  const ImageMean diffuse = planeUnderDisk(R"({"type": "diffuse", "albedo": 0.6})");
+  // The dielectric base alone (metallic 0: diffuse under a specular layer) and the metal.
+  const ImageMean diffuse =
+      planeUnderDisk(R"({"type": "pbr", "albedo": 0.6, "roughness": 0.3, "metallic": 0})");
   const ImageMean metal =
       planeUnderDisk(R"({"type": "conductor", "color": 0.6, "roughness": 0.3})");
   EXPECT_GT(diffuse.mean - metal.mean, 0.05) << "the parts must differ for this test";
@@ -279,7 +281,7 @@ TEST(Integrator, PbrMaterialIsTheWeightedMixOfItsParts) {
     EXPECT_NEAR(mix.mean, expected, std::max(4 * error, 1e-3)) << "metallic " << metallic;
   }
   // glTF's metallic-roughness texture scales the factors per texel: blue 0 takes the metal
-  // away, leaving the diffuse part; blue 1 keeps it.
+  // away, leaving the dielectric base; blue 1 keeps it.
   for (const float blue : {0.0f, 1.0f}) {
     const ImageMean textured = planeUnderDisk(
         R"({"type": "pbr", "albedo": 0.6, "roughness": 0.3, "metallic": 1})", [&](Scene& scene) {
