@@ -55,25 +55,31 @@ float conductorPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
 }
 
 // glTF's dielectric base of a Pbr material (the specification's fresnel_mix): the diffuse
-// colour under an untinted GGX specular layer of the same roughness, mixed by the Fresnel
-// reflectance at the half vector, F = f0 + (1 - f0)(1 - |wo.h|)^5 with f0 from the ior (0.04 at
-// 1.5): f = (1 - F) color / pi + F D G / (4 |wo.n| |wi.n|). Times cos(wi).
-float baseF0(const SurfaceBsdf& b) {
+// colour under an untinted GGX specular layer of the same roughness, mixed per channel by the
+// layer's Fresnel reflectance at the half vector, F = f0 + (f90 - f0)(1 - |wo.h|)^5, where
+// f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1) specular and f90 = specular
+// (KHR_materials_specular; 0.04 and 1 without it, at ior 1.5):
+// f = (1 - F) color / pi + F D G / (4 |wo.n| |wi.n|). Times cos(wi).
+vec3 baseFresnel(const SurfaceBsdf& b, float cosTheta) {
   const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
-  return r * r;
+  const vec3 f0 = glm::min(vec3(r * r) * b.specularColor, vec3(1.0f)) * b.specular;
+  const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
+  const float m5 = (m * m) * (m * m) * m;
+  return f0 + (vec3(b.specular) - f0) * m5;
 }
 
 vec3 baseEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const vec3 h = glm::normalize(wo + wi);
-  const float f = schlick(vec3(baseF0(b)), glm::dot(wo, h)).x;
+  const vec3 f = baseFresnel(b, glm::dot(wo, h));
   const float specular = ggxD(h, b.alpha) * ggxG(wo, wi, b.alpha) / (4.0f * wo.z);
-  return (1.0f - f) * b.color * (kInvPi * wi.z) + vec3(f * specular);
+  return (vec3(1.0f) - f) * b.color * (kInvPi * wi.z) + f * specular;
 }
 
-// The chance that sampling the base draws its specular layer: its Fresnel weight seen from wo,
-// at least a quarter so that glossy reflections of the environment are found often.
+// The chance that sampling the base draws its specular layer: its largest Fresnel weight seen
+// from wo, at least a quarter so that glossy reflections of the environment are found often.
 float baseSpecularChance(const SurfaceBsdf& b, vec3 wo) {
-  return std::clamp(schlick(vec3(baseF0(b)), wo.z).x, 0.25f, 0.9f);
+  const vec3 f = baseFresnel(b, wo.z);
+  return std::clamp(std::max(f.x, std::max(f.y, f.z)), 0.25f, 0.9f);
 }
 
 float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {

@@ -24,6 +24,8 @@ struct SurfaceBsdf {
   vec3 color = vec3(0.8f);  // diffuse albedo or specular tint
   float alpha = 0.04f;      // GGX alpha (conductor)
   float ior = 1.5f;
+  float specular = 1.0f;            // Pbr: the base's specular layer (Material::specular)
+  vec3 specularColor = vec3(1.0f);  // and its tint at normal incidence
   // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
   // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
   // specular).

@@ -73,13 +73,17 @@ struct Material {
   enum class Type { Diffuse, Conductor, Mirror, Dielectric, Pbr };
   Type type = Type::Diffuse;
   std::string name;
-  int albedoTexture = -1;             // Diffuse: index into Scene::textures; -1 uses `albedo`
-  vec3 albedo = vec3(0.8f);           // Diffuse reflectance, or Conductor/Mirror tint (F0)
-  float roughness = 0.2f;             // Conductor: GGX alpha = roughness^2
-  float ior = 1.5f;                   // Dielectric index of refraction
-  vec3 emission = vec3(0.0f);         // radiance emitted on the front side (CCW normal)
-  float metallic = 0.0f;              // Pbr: weight of the conductor
-  float transmission = 0.0f;          // Pbr: share of glass in the non-metallic part
+  int albedoTexture = -1;      // Diffuse: index into Scene::textures; -1 uses `albedo`
+  vec3 albedo = vec3(0.8f);    // Diffuse reflectance, or Conductor/Mirror tint (F0)
+  float roughness = 0.2f;      // Conductor: GGX alpha = roughness^2
+  float ior = 1.5f;            // Dielectric index of refraction
+  vec3 emission = vec3(0.0f);  // radiance emitted on the front side (CCW normal)
+  float metallic = 0.0f;       // Pbr: weight of the conductor
+  float transmission = 0.0f;   // Pbr: share of glass in the non-metallic part
+  // Pbr: glTF's KHR_materials_specular on the dielectric base's specular layer: its reflectance
+  // at normal incidence is min(f0(ior) x specularColor, 1) x specular, at grazing specular.
+  float specular = 1.0f;
+  vec3 specularColor = vec3(1.0f);
   int metallicRoughnessTexture = -1;  // Pbr: roughness x green, metallic x blue (linear data)
   int emissionTexture = -1;           // multiplies `emission`; -1: uniform
   int normalTexture = -1;             // tangent-space normal map (linear, +y along +v); -1: none

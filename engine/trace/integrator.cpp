@@ -47,6 +47,8 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   const float alpha = roughness * roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
   b.ior = m.ior;
+  b.specular = m.specular;
+  b.specularColor = m.specularColor;
   b.frame = makeFrame(s.shadingNormal);
   b.geometricNormal = s.geometricNormal;
   return b;

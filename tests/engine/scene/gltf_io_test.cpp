@@ -504,6 +504,31 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
 }
 
+TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][0]["extensions"]["KHR_materials_specular"] = {
+      {"specularFactor", 0.5},
+      {"specularColorFactor", {1.0, 0.5, 0.25}},
+      {"specularTexture", {{"index", 0}}}};
+  j["extensionsUsed"].push_back("KHR_materials_specular");
+  const GltfData g = loadGltf(writeGltf("specular.gltf", j));
+  EXPECT_FLOAT_EQ(g.materials[0].specular, 0.5f);
+  EXPECT_EQ(g.materials[0].specularColor, vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
+  std::string all;
+  for (const std::string& w : g.warnings) all += w + "\n";
+  EXPECT_NE(all.find("materials[0]: specularTexture is not read (the factor is)"),
+            std::string::npos)
+      << all;
+  EXPECT_EQ(all.find("KHR_materials_specular is not supported"), std::string::npos) << all;
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularColorFactor"] = {1.0, -1.0,
+                                                                                      0.0};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[0].extensions.KHR_materials_specular.specularColorFactor"});
+}
+
 TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
   const std::string buffer = quadBuffer();
   writeGltf("include/quad.gltf", quadGltf(dataUri(buffer), buffer.size()));

@@ -90,7 +90,7 @@ TEST(EnvironmentLighting, WhiteFurnaceUnderAConstantMap) {
 // A black pbr plane (albedo 0: only its specular layer reflects) of roughness 0.05 under a
 // constant map of radiance 1, seen at `degrees` from its normal, direct light only: the mean
 // radiance, which is the layer's directional albedo there.
-Stats glossyBlackPlane(float degrees, float ior) {
+Stats glossyBlackPlane(float degrees, float ior, float specular = 1.0f) {
   const float a = degrees * float(kPiD) / 180.0f;
   Scene scene = sceneFrom(R"({
     "render": {"width": 8, "height": 8, "max_depth": 1},
@@ -100,6 +100,7 @@ Stats glossyBlackPlane(float degrees, float ior) {
     "materials": {"ground": {"type": "pbr", "albedo": 0, "roughness": 0.05, "ior": )" +
                           std::to_string(ior) + R"(}},
     "objects": [{"shape": "rectangle", "size": [100, 100], "material": "ground"}]})");
+  scene.materials[0].specular = specular;
   setEnvironment(scene, Image(8, 4, vec3(1.0f)));
   return pixelStats(test::renderScene(std::move(scene), 256, SamplerKind::Independent, kSeed));
 }
@@ -115,6 +116,10 @@ TEST(EnvironmentLighting, GltfDielectricsReflectTheirFresnelShareOfTheSky) {
   const Stats grazing = glossyBlackPlane(75.0f, 1.5f);
   EXPECT_NEAR(grazing.mean, 0.25, 0.03);
   EXPECT_LT(glossyBlackPlane(0.0f, 1.0f).mean, 1e-6);
+  // KHR_materials_specular scales the layer: half of it reflects 2 % straight on, none nothing.
+  const Stats half = glossyBlackPlane(0.0f, 1.5f, 0.5f);
+  EXPECT_NEAR(half.mean, 0.02, std::max(4 * half.standardError, 1e-3));
+  EXPECT_EQ(glossyBlackPlane(75.0f, 1.5f, 0.0f).mean, 0.0);
 }
 
 TEST(EnvironmentLighting, PbrBaseUnderAConstantMapLosesNoMoreThanItsFresnelShare) {
