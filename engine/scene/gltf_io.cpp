@@ -5,6 +5,7 @@
 #include "scene/gltf_animation.h"
 #include "scene/gltf_compression.h"
 #include "scene/gltf_file.h"
+#include "scene/gltf_material_layers.h"
 #include "scene/gltf_textures.h"
 
 #include "scene/mesh_io.h"
@@ -158,8 +159,8 @@ class Converter {
 
   static bool supportedExtension(const std::string& e) {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
-           e == "KHR_materials_specular" || e == "KHR_materials_ior" ||
-           e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
+           e == "KHR_materials_specular" || e == "KHR_materials_clearcoat" ||
+           e == "KHR_materials_ior" || e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
            e == "KHR_mesh_quantization" || e == kWebpExtension || isMeshCompression(e);
   }
 
@@ -273,32 +274,6 @@ class Converter {
     return id;
   }
 
-  // KHR_materials_specular's factors on the dielectric base's specular layer (its textures
-  // are not read: a warning says so).
-  void specularLayer(const tinygltf::Material& m, const std::string& where, Material& out) {
-    const auto it = m.extensions.find("KHR_materials_specular");
-    if (it == m.extensions.end() || !it->second.IsObject()) return;
-    const tinygltf::Value& e = it->second;
-    const double factor =
-        extensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0);
-    out.specular = std::isfinite(factor) ? std::clamp(float(factor), 0.0f, 1.0f) : 1.0f;
-    if (e.Has("specularColorFactor")) {
-      const tinygltf::Value& c = e.Get("specularColorFactor");
-      if (!c.IsArray() || c.ArrayLen() != 3)
-        fail(path_, where + ".extensions.KHR_materials_specular.specularColorFactor",
-             "must be an array of three numbers");
-      for (int k = 0; k < 3; ++k) {
-        const double v = c.Get(k).IsNumber() ? c.Get(k).GetNumberAsDouble() : -1.0;
-        if (!(v >= 0.0 && std::isfinite(v)))
-          fail(path_, where + ".extensions.KHR_materials_specular.specularColorFactor",
-               "must hold three finite numbers of at least 0");
-        out.specularColor[k] = float(v);
-      }
-    }
-    for (const char* t : {"specularTexture", "specularColorTexture"})
-      if (e.Has(t)) warn(where + ": " + t + " is not read (the factor is)");
-  }
-
   Material material(size_t index) {
     const tinygltf::Material& m = model_.materials[index];
     const std::string where = indexed("materials", index);
@@ -330,7 +305,7 @@ class Converter {
     if (m.extensions.count("KHR_materials_transmission") &&
         m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
       warn(where + ": transmissionTexture is not read (the factor is)");
-    specularLayer(m, where, out);
+    for (const std::string& w : readMaterialLayers(path_, m, where, out)) warn(w);
     if (m.normalTexture.index >= 0) {
       out.normalTexture =
           texture(m.normalTexture, where + ".normalTexture", Texels::Data, vec3(1.0f));

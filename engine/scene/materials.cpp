@@ -82,6 +82,28 @@ float baseSpecularChance(const SurfaceBsdf& b, vec3 wo) {
   return std::clamp(std::max(f.x, std::max(f.y, f.z)), 0.25f, 0.9f);
 }
 
+// glTF's clear coat (fresnel_coat): the material below it weighs 1 - coat Fc and the coat's
+// untinted GGX lobe coat Fc, Fc = 0.04 + 0.96 (1 - |wo.h|)^5 (ior 1.5).
+float coatFresnel(float cosTheta) {
+  const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
+  return 0.04f + 0.96f * ((m * m) * (m * m) * m);
+}
+
+// The chance that sampling draws the coat: its Fresnel weight seen from wo, at least a fifth of
+// its weight; 0 without a coat.
+float coatChance(const SurfaceBsdf& b, vec3 wo) {
+  if (!(b.coat > 0)) return 0.0f;
+  return std::clamp(b.coat * coatFresnel(wo.z), 0.2f * b.coat, 0.9f);
+}
+
+float coatLobe(const SurfaceBsdf& b, vec3 wo, vec3 wi, vec3 h) {
+  return ggxD(h, b.coatAlpha) * ggxG(wo, wi, b.coatAlpha) / (4.0f * wo.z);
+}
+
+float coatPdf(const SurfaceBsdf& b, vec3 wo, vec3 h) {
+  return ggxD(h, b.coatAlpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
+}
+
 float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const float s = baseSpecularChance(b, wo);
   return (1.0f - s) * wi.z * kInvPi + s * conductorPdf(b, wo, wi);
@@ -104,6 +126,11 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       vec3 f(0.0f);
       if (b.diffuseWeight > 0) f += b.diffuseWeight * baseEval(b, wo, wi);
       if (b.conductorWeight > 0) f += b.conductorWeight * conductorEval(b, wo, wi);
+      if (b.coat > 0) {
+        const vec3 h = glm::normalize(wo + wi);
+        const float c = b.coat * coatFresnel(glm::dot(wo, h));
+        f = (1.0f - c) * f + vec3(c * coatLobe(b, wo, wi, h));
+      }
       return f;
     }
     default:
@@ -126,6 +153,10 @@ float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       float pdf = 0;
       if (b.diffuseWeight > 0) pdf += b.diffuseWeight * basePdf(b, wo, wi);
       if (b.conductorWeight > 0) pdf += b.conductorWeight * conductorPdf(b, wo, wi);
+      if (b.coat > 0) {
+        const float c = coatChance(b, wo);
+        pdf = (1.0f - c) * pdf + c * coatPdf(b, wo, glm::normalize(wo + wi));
+      }
       return pdf;
     }
     default:
@@ -234,11 +265,23 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       sampleDielectric(b, wo, uc, out);
       return true;
     case Material::Type::Pbr: {
-      // uc picks the part, then is stretched back onto [0,1) for the part's own choice.
+      // uc picks the coat or the part, then is stretched back onto [0,1) for the next choice.
+      const float coat = coatChance(b, vec3(wo.x, wo.y, std::abs(wo.z)));
+      if (coat > 0) {
+        if (uc < coat) {
+          const vec3 h = sampleGgxHalfVector(b.coatAlpha, u, side);
+          wi = 2.0f * glm::dot(wo, h) * h - wo;
+          if (wi.z * wo.z <= 0) return false;
+          break;  // weighted by the mix's f / pdf below
+        }
+        uc = std::min((uc - coat) / (1.0f - coat), 0.99999994f);
+      }
       if (uc < b.dielectricWeight) {
         sampleDielectric(b, wo, uc / b.dielectricWeight, out);
         // Transmission is tinted by the base colour (glTF's KHR_materials_transmission).
         if (glm::dot(out.wi, b.frame.n) * wo.z < 0) out.weight *= b.color;
+        // Under a coat, glass gets what the coat lets through, over the chance of not drawing it.
+        if (coat > 0) out.weight *= (1.0f - b.coat * coatFresnel(std::abs(wo.z))) / (1.0f - coat);
         return true;
       }
       const float rest = b.diffuseWeight + b.conductorWeight;

@@ -26,6 +26,8 @@ struct SurfaceBsdf {
   float ior = 1.5f;
   float specular = 1.0f;            // Pbr: the base's specular layer (Material::specular)
   vec3 specularColor = vec3(1.0f);  // and its tint at normal incidence
+  float coat = 0.0f;                // Pbr: the clear coat's weight (0: none)
+  float coatAlpha = 1e-3f;          // and its GGX alpha
   // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
   // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
   // specular).
@@ -35,7 +37,7 @@ struct SurfaceBsdf {
 
   bool isSpecular() const {
     return type == Material::Type::Mirror || type == Material::Type::Dielectric ||
-           (type == Material::Type::Pbr && !(diffuseWeight + conductorWeight > 0));
+           (type == Material::Type::Pbr && !(diffuseWeight + conductorWeight > 0) && !(coat > 0));
   }
   // Whether sampling draws a number to choose a lobe (reflect or refract, or a Pbr part).
   bool choosesLobe() const {

@@ -84,6 +84,9 @@ struct Material {
   // at normal incidence is min(f0(ior) x specularColor, 1) x specular, at grazing specular.
   float specular = 1.0f;
   vec3 specularColor = vec3(1.0f);
+  // Pbr: glTF's KHR_materials_clearcoat: a clear GGX layer (ior 1.5, untinted) of this weight
+  // and roughness over the whole material.
+  float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
   int metallicRoughnessTexture = -1;  // Pbr: roughness x green, metallic x blue (linear data)
   int emissionTexture = -1;           // multiplies `emission`; -1: uniform
   int normalTexture = -1;             // tangent-space normal map (linear, +y along +v); -1: none

@@ -49,6 +49,8 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.ior = m.ior;
   b.specular = m.specular;
   b.specularColor = m.specularColor;
+  b.coat = m.clearcoat;
+  b.coatAlpha = std::clamp(m.clearcoatRoughness * m.clearcoatRoughness, 1e-3f, 1.0f);
   b.frame = makeFrame(s.shadingNormal);
   b.geometricNormal = s.geometricNormal;
   return b;

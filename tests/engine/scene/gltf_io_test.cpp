@@ -516,6 +516,7 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   EXPECT_FLOAT_EQ(g.materials[0].specular, 0.5f);
   EXPECT_EQ(g.materials[0].specularColor, vec3(1.0f, 0.5f, 0.25f));
   EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
+  EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
   std::string all;
   for (const std::string& w : g.warnings) all += w + "\n";
   EXPECT_NE(all.find("materials[0]: specularTexture is not read (the factor is)"),
@@ -527,6 +528,24 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   expectSceneError(
       [&] { loadGltf(writeGltf("bad.gltf", j)); },
       {"bad.gltf", "materials[0].extensions.KHR_materials_specular.specularColorFactor"});
+}
+
+TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {
+      {"clearcoatFactor", 0.8},
+      {"clearcoatRoughnessFactor", 0.2},
+      {"clearcoatNormalTexture", {{"index", 0}}}};
+  j["extensionsUsed"].push_back("KHR_materials_clearcoat");
+  const GltfData g = loadGltf(writeGltf("coat.gltf", j));
+  EXPECT_FLOAT_EQ(g.materials[1].clearcoat, 0.8f);
+  EXPECT_FLOAT_EQ(g.materials[1].clearcoatRoughness, 0.2f);
+  EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
+  std::string all;
+  for (const std::string& w : g.warnings) all += w + "\n";
+  EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
+  EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }
 
 TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
