@@ -3,6 +3,7 @@
 // Usage: make_seeds FOLDER   (creates FOLDER/obj, mtl, ply, exr, png, pfm)
 #include "core/image.h"
 #include "core/image_io.h"
+#include "tests/base64.h"
 #include "tests/engine/scene/draco_encode.h"
 
 #include <meshoptimizer.h>
@@ -108,18 +109,7 @@ std::string webpTriangleGltf() {
   const size_t size = WebPEncodeLosslessRGB(rgb, 2, 1, 6, &webp);
   const std::string bytes(reinterpret_cast<const char*>(webp), size);
   WebPFree(webp);
-  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string base64;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
-    base64 += kDigits[(v >> 18) & 63];
-    base64 += kDigits[(v >> 12) & 63];
-    base64 += i + 1 < bytes.size() ? kDigits[(v >> 6) & 63] : '=';
-    base64 += i + 2 < bytes.size() ? kDigits[v & 63] : '=';
-  }
-  j["images"] = {{{"uri", "data:image/webp;base64," + base64}}};
+  j["images"] = {{{"uri", "data:image/webp;base64," + test::base64(bytes)}}};
   j["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
   j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   j["extensionsUsed"] = j["extensionsRequired"] = {"EXT_texture_webp"};

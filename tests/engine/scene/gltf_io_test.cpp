@@ -496,8 +496,7 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["extensionsUsed"].push_back("KHR_materials_sheen");
   j["skins"] = Json::array();
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
-  std::string all;
-  for (const std::string& w : g.warnings) all += w + "\n";
+  const std::string all = allWarnings(g);
   for (const char* part : {"materials[0]: occlusionTexture is ignored",
                            "materials[1].normalTexture: uv set 1 is not read",
                            "extension KHR_materials_sheen is not supported"})
@@ -517,8 +516,7 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   EXPECT_EQ(g.materials[0].specularColor, vec3(1.0f, 0.5f, 0.25f));
   EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
-  std::string all;
-  for (const std::string& w : g.warnings) all += w + "\n";
+  const std::string all = allWarnings(g);
   EXPECT_NE(all.find("materials[0]: specularTexture is not read (the factor is)"),
             std::string::npos)
       << all;
@@ -542,8 +540,7 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_FLOAT_EQ(g.materials[1].clearcoat, 0.8f);
   EXPECT_FLOAT_EQ(g.materials[1].clearcoatRoughness, 0.2f);
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
-  std::string all;
-  for (const std::string& w : g.warnings) all += w + "\n";
+  const std::string all = allWarnings(g);
   EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }

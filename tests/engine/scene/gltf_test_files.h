@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/image_io.h"
+#include "tests/base64.h"
 #include "tests/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -23,20 +24,7 @@ namespace penumbra::gltf_test {
 
 using Json = nlohmann::json;
 
-inline std::string base64(const std::string& bytes) {
-  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
-    out += kDigits[(v >> 18) & 63];
-    out += kDigits[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kDigits[(v >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? kDigits[v & 63] : '=';
-  }
-  return out;
-}
+using test::base64;
 
 template <typename T>
 inline void append(std::string& bytes, std::initializer_list<T> values) {
@@ -134,6 +122,14 @@ inline std::string writeGltf(const std::string& name, const Json& j) {
 }
 
 using test::expectNear;
+
+// Every warning of a loaded file, one a line (to search for a part of one).
+template <typename Loaded>
+std::string allWarnings(const Loaded& loaded) {
+  std::string all;
+  for (const std::string& w : loaded.warnings) all += w + "\n";
+  return all;
+}
 
 // A data: URI of a PNG of w x h texels with n channels.
 inline std::string pngUri(int w, int h, int n, const std::vector<uint8_t>& texels) {

@@ -283,8 +283,7 @@ TEST(GltfTextures, WebpImagesAreReadAndKtx2OnesLeftOutWithTheirFallbacksRead) {
     EXPECT_EQ(textureTexel(image, 0, 1, 0), vec3(0, 0, 1)) << m;
   }
   EXPECT_EQ(g.materials[1].albedoTexture, -1);
-  std::string all;
-  for (const std::string& w : g.warnings) all += w + "\n";
+  const std::string all = allWarnings(g);
   EXPECT_NE(all.find("textures[1]: its image is only in KHR_texture_basisu's format"),
             std::string::npos)
       << all;
