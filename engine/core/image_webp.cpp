@@ -10,7 +10,7 @@ namespace penumbra {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& name, const std::string& reason) {
+[[noreturn]] void refuse(const std::string& name, const std::string& reason) {
   throw ImageIoError(name + ": " + reason);
 }
 
@@ -21,16 +21,17 @@ bool isWebp(const unsigned char* bytes, size_t size) {
 }
 
 DecodedImage inspectWebp(const std::string& name, const unsigned char* bytes, size_t size) {
-  if (!isWebp(bytes, size)) fail(name, "not a WebP image");
+  if (!isWebp(bytes, size)) refuse(name, "not a WebP image");
   WebPBitstreamFeatures features;
   if (WebPGetFeatures(bytes, size, &features) != VP8_STATUS_OK)
-    fail(name, "cannot decode image: a damaged WebP header");
+    refuse(name, "cannot decode image: a damaged WebP header");
   if (features.width <= 0 || features.height <= 0 ||
       size_t(features.width) * size_t(features.height) > kMaxWebpPixels)
-    fail(name, "its header's " + std::to_string(features.width) + "x" +
-                   std::to_string(features.height) + " pixels are more than a texture may have (" +
-                   std::to_string(kMaxWebpPixels) + ")");
-  if (features.has_animation) fail(name, "an animated WebP is not a texture");
+    refuse(name, "its header's " + std::to_string(features.width) + "x" +
+                     std::to_string(features.height) +
+                     " pixels are more than a texture may have (" + std::to_string(kMaxWebpPixels) +
+                     ")");
+  if (features.has_animation) refuse(name, "an animated WebP is not a texture");
   DecodedImage image;
   image.width = features.width;
   image.height = features.height;
@@ -46,9 +47,9 @@ DecodedImage decodeWebp(const std::string& name, const unsigned char* bytes, siz
       image.channels == 4 ? WebPDecodeRGBA(bytes, size, &width, &height)
                           : WebPDecodeRGB(bytes, size, &width, &height),
       &WebPFree);
-  if (!decoded) fail(name, "cannot decode image: damaged WebP data");
+  if (!decoded) refuse(name, "cannot decode image: damaged WebP data");
   if (width != image.width || height != image.height)
-    fail(name, "cannot decode image: its size changed while it was decoded");
+    refuse(name, "cannot decode image: its size changed while it was decoded");
   const size_t length = size_t(width) * size_t(height) * size_t(image.channels);
   image.data.assign(decoded.get(), decoded.get() + length);
   return image;
