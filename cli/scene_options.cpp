@@ -95,13 +95,18 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
 }
 
 namespace {
+// Prints the scene's warnings from the `first` on, one line each.
+void printWarnings(const Scene& scene, size_t first = 0) {
+  for (size_t i = first; i < scene.warnings.size(); ++i)
+    std::fprintf(stderr, "warning: %s\n", scene.warnings[i].c_str());
+}
+
 void applyEnvironmentOptions(const SceneOptions& o, Scene& scene) {
   if (!o.environment.empty()) {
     try {
       const size_t warningsBefore = scene.warnings.size();
       replaceEnvironment(scene, o.environment);
-      for (size_t i = warningsBefore; i < scene.warnings.size(); ++i)
-        std::fprintf(stderr, "warning: %s\n", scene.warnings[i].c_str());
+      printWarnings(scene, warningsBefore);
     } catch (const SceneError& error) {
       throw CommandError(std::string("--env ") + error.what());
     }
@@ -135,8 +140,7 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
     load.shutterSeconds = *o.shutterSeconds;
   }
   Scene scene = loadScene(o.scenePath, load);
-  for (const std::string& warning : scene.warnings)
-    std::fprintf(stderr, "warning: %s\n", warning.c_str());
+  printWarnings(scene);
   if (!o.size.empty()) {
     const auto wh = parseNumbers("--size", o.size, 2, 'x');
     if (wh[0] < 1 || wh[1] < 1 || wh[0] > 16384 || wh[1] > 16384 || wh[0] != std::floor(wh[0]) ||

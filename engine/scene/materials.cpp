@@ -37,11 +37,13 @@ float ggxG(vec3 wo, vec3 wi, float alpha) {
   return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
 }
 
-vec3 schlick(vec3 f0, float cosTheta) {
+// Schlick's weight of the grazing reflectance, (1 - cos)^5.
+float schlickWeight(float cosTheta) {
   const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
-  const float m5 = (m * m) * (m * m) * m;
-  return f0 + (vec3(1.0f) - f0) * m5;
+  return (m * m) * (m * m) * m;
 }
+
+vec3 schlick(vec3 f0, float cosTheta) { return f0 + (vec3(1.0f) - f0) * schlickWeight(cosTheta); }
 
 vec3 conductorEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const vec3 h = glm::normalize(wo + wi);
@@ -63,9 +65,7 @@ float conductorPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
 vec3 baseFresnel(const SurfaceBsdf& b, float cosTheta) {
   const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
   const vec3 f0 = glm::min(vec3(r * r) * b.specularColor, vec3(1.0f)) * b.specular;
-  const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
-  const float m5 = (m * m) * (m * m) * m;
-  return f0 + (vec3(b.specular) - f0) * m5;
+  return f0 + (vec3(b.specular) - f0) * schlickWeight(cosTheta);
 }
 
 vec3 baseEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
@@ -84,10 +84,7 @@ float baseSpecularChance(const SurfaceBsdf& b, vec3 wo) {
 
 // glTF's clear coat (fresnel_coat): the material below it weighs 1 - coat Fc and the coat's
 // untinted GGX lobe coat Fc, Fc = 0.04 + 0.96 (1 - |wo.h|)^5 (ior 1.5).
-float coatFresnel(float cosTheta) {
-  const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
-  return 0.04f + 0.96f * ((m * m) * (m * m) * m);
-}
+float coatFresnel(float cosTheta) { return schlick(vec3(0.04f), cosTheta).x; }
 
 // The chance that sampling draws the coat: its Fresnel weight seen from wo, at least a fifth of
 // its weight; 0 without a coat.
