@@ -9,6 +9,7 @@
 #include "scene/gltf_textures.h"
 
 #include "scene/mesh_io.h"
+#include "scene/tangents.h"
 
 #include <tiny_gltf.h>
 
@@ -549,6 +550,12 @@ class Converter {
                                vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2)));
                       });
     }
+    if (steps.size() == 1)  // a moving primitive's normal maps take its triangles' frames
+      appendAttribute(target, accessorOf("TANGENT"), where + ".TANGENT", vertexCount, 4,
+                      target.tangents, anyTangents_, [&](const AccessorReader& r, size_t v) {
+                        const glm::vec4 t(r.get(v, 0), r.get(v, 1), r.get(v, 2), r.get(v, 3));
+                        return transformTangent(glm::mat3(steps.front()), t);
+                      });
     appendAttribute(target, accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
                     target.uvs, anyUvs, [&](const AccessorReader& r, size_t v) {
                       // glTF's v runs down the image; ours runs up.
@@ -714,7 +721,7 @@ class Converter {
   // Bounds on what instancing can multiply a small file into (about 2 GB of vertices).
   static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
   static constexpr size_t kMaxVertices = size_t(1) << 26;
-  bool anyNormals_ = false, anyUvs_ = false, anyColors_ = false;
+  bool anyNormals_ = false, anyUvs_ = false, anyColors_ = false, anyTangents_ = false;
   size_t fullTextureBytes_ = 0;  // the images as converted, before the budget halved any
   int texturesHalved_ = 0;
 };

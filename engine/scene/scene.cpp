@@ -2,6 +2,7 @@
 
 #include "scene/scene_loader.h"
 #include "scene/shapes.h"
+#include "scene/tangents.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
@@ -59,6 +60,9 @@ Mesh placeMesh(const Mesh& objectSpace, const mat4& base, const Motion& motion) 
     out.positions.insert(out.positions.end(), step.positions.begin(), step.positions.end());
     out.normals.insert(out.normals.end(), step.normals.begin(), step.normals.end());
   }
+  // The file's tangents (glTF's) turn with the mesh; they are not kept per time step.
+  if (steps > 1) out.tangents.clear();
+  for (glm::vec4& t : out.tangents) t = transformTangent(glm::mat3(base), t);
   // A mirroring transform turns counter-clockwise into clockwise: restore the front side.
   if (glm::determinant(glm::mat3(base)) < 0)
     for (size_t i = 0; i + 2 < out.indices.size(); i += 3)

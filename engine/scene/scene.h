@@ -13,6 +13,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -39,9 +40,14 @@ struct Mesh {
   uint32_t vertexCount = 0;
   int timeSteps = 1;
   std::vector<vec3> positions;
-  std::vector<vec3> normals;          // empty: flat shading
-  std::vector<vec2> uvs;              // empty: (0,0); never per step
-  std::vector<vec3> colors;           // empty: white; multiply the base colour; never per step
+  std::vector<vec3> normals;  // empty: flat shading
+  std::vector<vec2> uvs;      // empty: (0,0); never per step
+  std::vector<vec3> colors;   // empty: white; multiply the base colour; never per step
+  // Per vertex, the tangent frame a normal map is read in (scene/tangents.h): xyz along +u, w
+  // = ±1 the side of the bitangent w·cross(n, xyz), which runs along +v. A vertex with w = 0
+  // has none, and its triangles take their own frame. Empty: none at all. Only for a mesh of
+  // one time step.
+  std::vector<glm::vec4> tangents;
   std::vector<uint32_t> indices;      // 3 per triangle, counter-clockwise = front
   std::vector<uint32_t> materialIds;  // one per triangle, index into Scene::materials
 

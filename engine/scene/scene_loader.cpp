@@ -4,6 +4,7 @@
 #include "scene/gltf_io.h"
 #include "scene/mesh_io.h"
 #include "scene/shapes.h"
+#include "scene/tangents.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -499,6 +500,8 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
     for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
       std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
     for (vec3& n : mesh.normals) n = -n;
+    // The bitangent, w·cross(n, t), keeps its direction.
+    for (glm::vec4& t : mesh.tangents) t.w = -t.w;
   }
   const mat4 base = node.contains("transform")
                         ? readTransform(r, node["transform"], f + ".transform")
@@ -734,6 +737,7 @@ Scene loadSceneFile(const std::string& path, const SceneLoadOptions& options) {
 Scene loadScene(const std::string& path, const SceneLoadOptions& options) {
   Scene scene = loadSceneFile(path, options);
   fitTextures(path, scene, options.textureBudgetBytes);
+  generateTangents(scene);
   return scene;
 }
 

@@ -1,6 +1,7 @@
 #include "trace/integrator.h"
 
 #include "scene/materials.h"
+#include "scene/tangents.h"
 #include "scene/textures.h"
 
 #include <glm/geometric.hpp>
@@ -124,28 +125,22 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
 }
 
 namespace {
-// dp/du and dp/dv of a triangle from its edges and their uv changes (at the ray's time); false
-// without a uv parameterisation.
-bool triangleTangents(vec3 e1, vec3 e2, vec2 duv1, vec2 duv2, vec3& dpdu, vec3& dpdv) {
-  const float det = duv1.x * duv2.y - duv1.y * duv2.x;
-  if (!(std::abs(det) > 1e-12f)) return false;
-  dpdu = (duv2.y * e1 - duv1.y * e2) / det;
-  dpdv = (duv1.x * e2 - duv2.x * e1) / det;
-  return true;
-}
-
-// Tilts the shading normal by a tangent-space normal map. The tangent frame is the triangle's
-// (dp/du, dp/dv) made orthonormal around the shading normal; the map's +y runs along +v (up
-// the image: OpenGL's and glTF's convention).
-void applyNormalMap(const Scene& scene, const Material& material, vec3 dpdu, vec3 dpdv,
-                    SurfaceHit& s) {
+// Tilts the shading normal by a tangent-space normal map. The tangent frame is the mesh's
+// vertex tangents' at the hit (scene/tangents.h), else the triangle's (dp/du, dp/dv) made
+// orthonormal around the shading normal; the map's +y runs along +v (up the image: OpenGL's
+// and glTF's convention).
+void applyNormalMap(const Scene& scene, const Material& material, const Mesh& mesh,
+                    const uint32_t* idx, const Hit& hit, vec3 dpdu, vec3 dpdv, SurfaceHit& s) {
   const vec3 n = s.shadingNormal;
-  vec3 t = dpdu - n * glm::dot(n, dpdu);
-  const float tLength = glm::length(t);
-  if (!(tLength > 1e-12f)) return;
-  t /= tLength;
-  vec3 b = glm::cross(n, t);
-  if (glm::dot(b, dpdv) < 0) b = -b;
+  vec3 t, b;
+  if (!vertexTangentFrame(mesh, idx, 1 - hit.u - hit.v, hit.u, hit.v, n, t, b)) {
+    t = dpdu - n * glm::dot(n, dpdu);
+    const float tLength = glm::length(t);
+    if (!(tLength > 1e-12f)) return;
+    t /= tLength;
+    b = glm::cross(n, t);
+    if (glm::dot(b, dpdv) < 0) b = -b;
+  }
   vec3 c =
       2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv, s.footprint) -
       vec3(1.0f);
@@ -160,7 +155,7 @@ void applyNormalMap(const Scene& scene, const Material& material, vec3 dpdu, vec
 
 void prefetchSurface(const Scene& scene, const Hit& hit) {
   // The hit's vertices are read at random (a cache miss each on a large mesh): ask for the
-  // positions, normals, uvs and material together rather than one after the other.
+  // positions, normals, uvs, tangents and material together rather than one after the other.
   const Mesh& mesh = scene.meshes[hit.meshId];
   if (mesh.timeSteps > 1) return;
   __builtin_prefetch(&mesh.materialIds[hit.primId]);
@@ -169,6 +164,7 @@ void prefetchSurface(const Scene& scene, const Hit& hit) {
     __builtin_prefetch(&mesh.positions[idx[k]]);
     if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[idx[k]]);
     if (!mesh.uvs.empty()) __builtin_prefetch(&mesh.uvs[idx[k]]);
+    if (!mesh.tangents.empty()) __builtin_prefetch(&mesh.tangents[idx[k]]);
   }
 }
 
@@ -237,7 +233,7 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
     differentials = &approximate;
   if (differentials && differentialOffsets(*differentials, s.point, s.geometricNormal, dpdx, dpdy))
     s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
-  if (material.normalTexture >= 0) applyNormalMap(scene, material, dpdu, dpdv, s);
+  if (material.normalTexture >= 0) applyNormalMap(scene, material, mesh, idx, hit, dpdu, dpdv, s);
   return s;
 }
 

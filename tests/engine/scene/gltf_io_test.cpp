@@ -148,6 +148,10 @@ TEST(Gltf, DamagedFilesNameTheElement) {
   j["meshes"][0]["primitives"][0]["material"] = 9;
   expectSceneError([&] { loadGltf(writeGltf("material.gltf", j)); },
                    {"meshes[0].primitives[0].material", "material 9 does not exist"});
+  j = quadGltf(dataUri(buffer), buffer.size());
+  j["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 1;  // the normals: VEC3
+  expectSceneError([&] { loadGltf(writeGltf("tangent.gltf", j)); },
+                   {"meshes[0].primitives[0].TANGENT", "expected 4 VEC4 values"});
   // Every node lists the next one twice: 2^30 instances of the last from 31 nodes.
   j = quadGltf(dataUri(buffer), buffer.size());
   j["scenes"][0]["nodes"] = {4};
@@ -258,6 +262,50 @@ TEST(Gltf, QuantisedAttributesAndVertexColoursAreRead) {
 
 // Sparse accessors: the listed elements replace the base's, or zeros where the accessor has no
 // buffer view; damaged ones are errors naming the accessor.
+TEST(Gltf, TangentsAreReadMovedByTheNodesAndGeneratedWhereMissing) {
+  std::string buffer = quadBuffer();
+  const size_t offset = buffer.size();
+  append<float>(buffer, {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0, -1});
+  Json j = quadGltf("", 0);
+  j["buffers"][0] = {{"uri", dataUri(buffer)}, {"byteLength", buffer.size()}};
+  j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", 64}});
+  j["accessors"].push_back(
+      {{"bufferView", 4}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+  j["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 4;
+  // A third instance, mirrored in x.
+  j["nodes"].push_back({{"name", "mirror"}, {"mesh", 0}, {"scale", {-1, 1, 1}}});
+  j["scenes"][0]["nodes"].push_back(4);
+  const GltfData g = loadGltf(writeGltf("tangents.gltf", j));
+  ASSERT_EQ(g.mesh.tangents.size(), 12u);
+  // The child is turned +90 degrees about y (x -> -z) and scaled by 2: the tangent turns, stays
+  // a unit vector and keeps its side.
+  expectNear(vec3(g.mesh.tangents[0]), vec3(0, 0, -1));
+  EXPECT_EQ(g.mesh.tangents[0].w, 1.0f);
+  expectNear(vec3(g.mesh.tangents[3]), vec3(0, 1, 0));
+  EXPECT_EQ(g.mesh.tangents[3].w, -1.0f);
+  // The plain instance has none in the file.
+  EXPECT_EQ(g.mesh.tangents[4], glm::vec4(0.0f));
+  // The mirror turns x around and the side with it.
+  EXPECT_EQ(g.mesh.tangents[8], glm::vec4(-1, 0, 0, -1));
+  EXPECT_EQ(g.mesh.tangents[11], glm::vec4(0, 1, 0, 1));
+
+  // Normal-mapped, the plain instance (with uvs now) gets generated tangents: +u runs along
+  // +x, +v (up the image) along +y. The file's stay as they are.
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {128, 128, 255})}}};
+  j["textures"] = {{{"source", 0}}};
+  j["materials"][0]["normalTexture"] = {{"index", 0}};
+  j["meshes"][1]["primitives"][0]["material"] = 0;
+  j["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+  const Scene scene = loadScene(writeGltf("mapped.gltf", j));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  EXPECT_EQ(mesh.tangents[0], g.mesh.tangents[0]);
+  for (uint32_t v = 4; v < 8; ++v) {
+    expectNear(vec3(mesh.tangents[v]), vec3(1, 0, 0));
+    EXPECT_EQ(mesh.tangents[v].w, 1.0f) << v;
+  }
+}
+
 TEST(Gltf, SparseAccessorsReplaceTheListedElements) {
   std::string buffer = quadBuffer();          // 140 bytes
   append<uint8_t>(buffer, {2, 0, 0, 0});      // 140: one index, padded

@@ -3,6 +3,7 @@
 #include "trace/integrator.h"
 #include "methods/render.h"
 #include "scene/scene_loader.h"
+#include "scene/tangents.h"
 #include "scene/textures.h"
 #include "tests/test_paths.h"
 
@@ -341,6 +342,42 @@ TEST(Integrator, NormalMapsTiltTheShadingNormalInTheTangentFrame) {
     EXPECT_NEAR(surface.shadingNormal.z, c, 1e-2f);
     EXPECT_NEAR(surface.geometricNormal.z, 1.0f, 1e-6f) << "the geometry does not change";
   }
+}
+
+TEST(Integrator, NormalMapsFollowTheVertexTangentsAcrossEdges) {
+  // Two triangles sharing the edge x + y = 1, whose dp/du differ by 18 degrees (the second's
+  // uvs are sheared); a map tilting every normal by 0.5 rad towards +u.
+  const float s = std::sin(0.5f), c = std::cos(0.5f);
+  Scene scene = texturedQuad(R"({"type": "diffuse"})", {0.5f * vec3(s, 0, c) + vec3(0.5f)}, 1);
+  scene.materials[0].normalTexture = 0;
+  Mesh& mesh = scene.meshes[0];
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  mesh.normals.assign(4, vec3(0, 0, 1));
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}, {1, 1.5f}};
+  mesh.vertexCount = 4;
+  mesh.indices = {0, 1, 2, 1, 3, 2};
+  mesh.materialIds = {0, 0};
+  // The shading normal just either side of the edge's middle.
+  const auto normalsAcross = [](const Scene& scene) {
+    const auto prepared = prepareScene(scene);
+    std::vector<vec3> normals;
+    for (const float d : {-1e-3f, 1e-3f}) {
+      Hit hit;
+      EXPECT_TRUE(prepared->accel->intersect(Ray{vec3(0.5f + d, 0.5f + d, 5), vec3(0, 0, -1), 0}, 0,
+                                             100, hit));
+      normals.push_back(surfaceAt(prepared->scene, hit, 0.0f).shadingNormal);
+    }
+    return normals;
+  };
+  // Each triangle's own frame: the normal jumps at the edge.
+  const std::vector<vec3> own = normalsAcross(scene);
+  EXPECT_GT(glm::length(own[0] - own[1]), 0.1f);
+  // The vertices' frames: continuous, tilted towards the mean of the two tangents.
+  generateTangents(scene);
+  const std::vector<vec3> shared = normalsAcross(scene);
+  EXPECT_LT(glm::length(shared[0] - shared[1]), 5e-3f);
+  const vec3 t = glm::normalize(vec3(1, 0, 0) + glm::normalize(vec3(1, -1.0f / 3.0f, 0)));
+  for (const vec3& n : shared) test::expectNear(n, s * t + c * vec3(0, 0, 1), 1e-2f);
 }
 
 // A 2 x 2 diffuse quad of `albedo` facing the camera, which sees only its middle, under a
