@@ -48,6 +48,8 @@ int componentCount(int type) {
       return 3;
     case TINYGLTF_TYPE_VEC4:
       return 4;
+    case TINYGLTF_TYPE_MAT4:  // a skin's inverse bind matrices; its columns need no padding
+      return 16;
     default:
       return 0;
   }

@@ -6,6 +6,8 @@
 #include "scene/gltf_compression.h"
 #include "scene/gltf_file.h"
 #include "scene/gltf_material_layers.h"
+#include "scene/gltf_node_objects.h"
+#include "scene/gltf_skin.h"
 #include "scene/gltf_textures.h"
 
 #include "scene/mesh_io.h"
@@ -131,7 +133,9 @@ class Converter {
     }
     onPath_.assign(model_.nodes.size(), 0);
     for (int root : roots) visit(root, {mat4(1.0f)}, "scenes.nodes");
-    pickCamera(cameraName);
+    std::vector<std::string> warnings;
+    out_.hasCamera = pickCamera(path_, model_, cameraNodes_, cameraName, out_.camera, warnings);
+    for (const std::string& w : warnings) warn(w);
   }
 
   void warnAboutTheRest() {
@@ -143,7 +147,6 @@ class Converter {
     }
     if (!model_.animations.empty() && !options_.animate)
       warn("animations: shown at the frame time, without motion blur (an included file)");
-    if (!model_.skins.empty()) warn("skins: skinning is not supported; meshes are shown unposed");
     for (const std::string& e : model_.extensionsUsed)
       if (!supportedExtension(e)) warn("extension " + e + " is not supported and is ignored");
     for (const std::string& e : model_.extensionsRequired)
@@ -396,6 +399,33 @@ class Converter {
     return samples;
   }
 
+  // A node's world transform samples found up its chain of parents (a skin's joints: they need
+  // not be visited before the mesh they pose).
+  const Samples& worldOf(int index) {
+    if (worlds_.empty()) {
+      worlds_.resize(model_.nodes.size());
+      parents_.assign(model_.nodes.size(), -1);
+      resolving_.assign(model_.nodes.size(), 0);
+      for (size_t n = 0; n < model_.nodes.size(); ++n)
+        for (int c : model_.nodes[n].children)
+          if (c >= 0 && size_t(c) < parents_.size() && parents_[size_t(c)] < 0)
+            parents_[size_t(c)] = int(n);
+    }
+    Samples& world = worlds_[size_t(index)];
+    if (!world.empty()) return world;
+    if (resolving_[size_t(index)])
+      fail(path_, indexed("nodes", size_t(index)), "is its own ancestor");
+    resolving_[size_t(index)] = 1;
+    const Samples local = localSamples(model_.nodes[size_t(index)], size_t(index));
+    const Samples parent =
+        parents_[size_t(index)] < 0 ? Samples{mat4(1.0f)} : worldOf(parents_[size_t(index)]);
+    world.resize(std::max(parent.size(), local.size()));
+    for (size_t j = 0; j < world.size(); ++j)
+      world[j] = parent[std::min(j, parent.size() - 1)] * local[std::min(j, local.size() - 1)];
+    resolving_[size_t(index)] = 0;
+    return world;
+  }
+
   void visit(int index, const Samples& parent, const std::string& from) {
     if (index < 0 || size_t(index) >= model_.nodes.size())
       fail(path_, from, "node " + std::to_string(index) + " does not exist");
@@ -413,68 +443,42 @@ class Converter {
     for (size_t j = 0; j < world.size(); ++j)
       world[j] = parent[std::min(j, parent.size() - 1)] * local[std::min(j, local.size() - 1)];
     const std::string where = indexed("nodes", size_t(index));
-    if (node.mesh >= 0) addMesh(node.mesh, world, where);
+    if (node.mesh >= 0 && node.skin >= 0) {
+      // Posed by its joints; the node's own transform is ignored, as glTF says.
+      const gltf::SkinPose pose = poseSkin(
+          path_, model_, node.skin, [&](int n) -> const Samples& { return worldOf(n); },
+          where + ".skin");
+      addMesh(node.mesh, world, where, &pose);
+    } else if (node.mesh >= 0) {
+      addMesh(node.mesh, world, where);
+    }
     // Cameras and lights are placed where they are when the shutter opens.
     if (node.camera >= 0) cameraNodes_.push_back({index, world.front()});
-    if (node.extensions.count("KHR_lights_punctual")) addLight(node, world.front(), where);
+    if (node.extensions.count("KHR_lights_punctual")) {
+      std::string warning;
+      out_.lights.push_back(readPunctualLight(path_, model_, node, world.front(), where, &warning));
+      if (!warning.empty()) warn(warning);
+    }
     for (int child : node.children) visit(child, world, where + ".children");
     onPath_[size_t(index)] = 0;
   }
 
-  void addLight(const tinygltf::Node& node, const mat4& world, const std::string& where) {
-    const double index = extensionNumber(node.extensions, "KHR_lights_punctual", "light", -1.0);
-    if (!(index >= 0 && index < double(model_.lights.size())))
-      fail(path_, where + ".extensions.KHR_lights_punctual.light",
-           "light " + number(index) + " does not exist");
-    const tinygltf::Light& light = model_.lights[size_t(index)];
-    const std::string lightWhere =
-        "extensions.KHR_lights_punctual." + indexed("lights", size_t(index));
-    PunctualLight out;
-    out.name = light.name.empty() ? lightWhere : light.name;
-    if (light.type == "point")
-      out.kind = PunctualLight::Kind::Point;
-    else if (light.type == "spot")
-      out.kind = PunctualLight::Kind::Spot;
-    else if (light.type == "directional")
-      out.kind = PunctualLight::Kind::Directional;
-    else
-      fail(path_, lightWhere + ".type", "unknown light type '" + light.type + "'");
-    vec3 color(1.0f);
-    if (light.color.size() == 3)
-      color = vec3(float(light.color[0]), float(light.color[1]), float(light.color[2]));
-    out.intensity = glm::max(color, vec3(0.0f)) * std::max(float(light.intensity), 0.0f);
-    if (!std::isfinite(out.intensity.x + out.intensity.y + out.intensity.z))
-      fail(path_, lightWhere + ".intensity", "not finite");
-    out.position = vec3(world * glm::vec4(0, 0, 0, 1));
-    const vec3 direction = vec3(world * glm::vec4(0, 0, -1, 0));
-    const float length = glm::length(direction);
-    if (!(length > 0.0f) ||
-        !std::isfinite(length + out.position.x + out.position.y + out.position.z))
-      fail(path_, where, "the light's transform is degenerate");
-    out.direction = direction / length;
-    if (out.kind == PunctualLight::Kind::Spot) {
-      const double inner = std::clamp(light.spot.innerConeAngle, 0.0, 1.5707963267948966);
-      const double outer = std::clamp(light.spot.outerConeAngle, inner, 1.5707963267948966);
-      out.cosInner = float(std::cos(inner));
-      out.cosOuter = float(std::cos(outer));
-    }
-    if (light.range > 0)
-      warn(lightWhere + ": range is ignored (light falls off with the square of the distance)");
-    out_.lights.push_back(out);
-  }
-
   // A mesh instance: into the static mesh when it does not move, else one mesh per primitive
   // with as many time steps as its motion needs.
-  void addMesh(int meshIndex, const Samples& world, const std::string& from) {
+  // A skinned mesh (`skin`) moves when its joints do, and `world` is not used.
+  void addMesh(int meshIndex, const Samples& world, const std::string& from,
+               const gltf::SkinPose* skin = nullptr) {
     if (size_t(meshIndex) >= model_.meshes.size())
       fail(path_, from, "mesh " + std::to_string(meshIndex) + " does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
     bool moves = false;
     for (const mat4& m : world) moves = moves || m != world.front();
+    if (skin) moves = skin->moves();
     if (!moves) {
+      const gltf::SkinPose still = skin ? skin->every(skin->steps.size()) : gltf::SkinPose{};
       for (size_t p = 0; p < mesh.primitives.size(); ++p)
         addPrimitive(mesh, size_t(meshIndex), p, {world.front()}, out_.mesh, anyNormals_, anyUvs_,
-                     anyColors_);
+                     anyColors_, skin ? &still : nullptr);
       return;
     }
     float radius = 0;
@@ -486,10 +490,12 @@ class Converter {
         radius =
             std::max(radius, float(glm::length(glm::dvec3(r.get(v, 0), r.get(v, 1), r.get(v, 2)))));
     }
-    const int segments = motionSegments(world, radius);
+    const int segments = skin ? skin->segments(radius) : motionSegments(world, radius);
     const int stride = (kSamples - 1) / segments;
     Samples steps;
-    for (int k = 0; k <= segments; ++k) steps.push_back(world[size_t(k * stride)]);
+    for (int k = 0; k <= segments; ++k)
+      steps.push_back(world[std::min(size_t(k * stride), world.size() - 1)]);
+    const gltf::SkinPose posed = skin ? skin->every(size_t(stride)) : gltf::SkinPose{};
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       Mesh moving;
       moving.name =
@@ -497,15 +503,17 @@ class Converter {
                                                          : model_.meshes[size_t(meshIndex)].name);
       moving.timeSteps = int(steps.size());
       bool normals = false, uvs = false, colors = false;
-      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs, colors);
+      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs, colors,
+                   skin ? &posed : nullptr);
       if (!moving.indices.empty()) out_.animatedMeshes.push_back(std::move(moving));
     }
   }
 
-  // Appends one primitive to `target` (vertex time steps as many as `steps`; a target with
-  // several steps receives one primitive only).
+  // Appends one primitive to `target` (vertex time steps as many as `steps`, or as the
+  // skin's; a target with several steps receives one primitive only).
   void addPrimitive(const tinygltf::Mesh& mesh, size_t meshIndex, size_t p, const Samples& steps,
-                    Mesh& target, bool& anyNormals, bool& anyUvs, bool& anyColors) {
+                    Mesh& target, bool& anyNormals, bool& anyUvs, bool& anyColors,
+                    const gltf::SkinPose* skin = nullptr) {
     const tinygltf::Primitive& prim = mesh.primitives[p];
     const std::string where = indexed("meshes", meshIndex) + "." + indexed("primitives", p);
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -522,10 +530,17 @@ class Converter {
     if (positions.components() != 3) fail(path_, positions.where(), "POSITION must be VEC3");
     const size_t vertexCount = positions.count();
     if (vertexCount == 0) return;
-    if (vertexCount * steps.size() > kMaxVertices - totalVertices_)
+    const size_t stepCount = skin ? skin->steps.size() : steps.size();
+    if (vertexCount * stepCount > kMaxVertices - totalVertices_)
       fail(path_, where,
            "the scene would have more than " + std::to_string(kMaxVertices) + " vertices");
-    totalVertices_ += vertexCount * steps.size();
+    totalVertices_ += vertexCount * stepCount;
+    std::optional<gltf::SkinWeights> weights;
+    if (skin) weights.emplace(path_, model_, prim, vertexCount, skin->jointCount(), where);
+    // Vertex v's transform at step s: the node's, or the blend of its joints'.
+    const auto transform = [&](size_t s, size_t v) {
+      return weights ? weights->matrix(v, skin->steps[s]) : steps[s];
+    };
 
     const uint32_t base = target.vertexCount;
     const auto accessorOf = [&](const char* name) {
@@ -534,27 +549,29 @@ class Converter {
     };
     // Positions and normals per step (step-major: a target with steps holds this primitive only).
     const int normalAccessor = accessorOf("NORMAL");
-    for (const mat4& world : steps) {
+    for (size_t s = 0; s < stepCount; ++s) {
       for (size_t v = 0; v < vertexCount; ++v) {
         const glm::vec4 pw =
-            world * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
-                              float(positions.get(v, 2)), 1.0f);
+            transform(s, v) * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
+                                        float(positions.get(v, 2)), 1.0f);
         if (!std::isfinite(pw.x + pw.y + pw.z))
           fail(path_, positions.where(), "non-finite position");
         target.positions.push_back(vec3(pw));
       }
-      const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(world));
+      const glm::mat3 nodeNormals = glm::inverseTranspose(glm::mat3(transform(s, 0)));
       appendAttribute(target, normalAccessor, where + ".NORMAL", vertexCount, 3, target.normals,
                       anyNormals, [&](const AccessorReader& r, size_t v) {
-                        return normalMatrix *
-                               vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2)));
+                        const glm::mat3 m = weights
+                                                ? glm::inverseTranspose(glm::mat3(transform(s, v)))
+                                                : nodeNormals;
+                        return m * vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2)));
                       });
     }
-    if (steps.size() == 1)  // a moving primitive's normal maps take its triangles' frames
+    if (stepCount == 1)  // a moving primitive's normal maps take its triangles' frames
       appendAttribute(target, accessorOf("TANGENT"), where + ".TANGENT", vertexCount, 4,
                       target.tangents, anyTangents_, [&](const AccessorReader& r, size_t v) {
                         const glm::vec4 t(r.get(v, 0), r.get(v, 1), r.get(v, 2), r.get(v, 3));
-                        return transformTangent(glm::mat3(steps.front()), t);
+                        return transformTangent(glm::mat3(transform(0, v)), t);
                       });
     appendAttribute(target, accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
                     target.uvs, anyUvs, [&](const AccessorReader& r, size_t v) {
@@ -602,7 +619,7 @@ class Converter {
     } else {
       materialId = defaultMaterial();
     }
-    const bool mirrored = glm::determinant(glm::mat3(steps.front())) < 0.0f;
+    const bool mirrored = glm::determinant(glm::mat3(transform(0, 0))) < 0.0f;
     const auto triangle = [&](uint32_t a, uint32_t b, uint32_t c) {
       if (a == b || b == c || a == c) return;  // degenerate strip joints
       if (mirrored) std::swap(b, c);
@@ -659,55 +676,15 @@ class Converter {
     }
   }
 
-  void pickCamera(const std::string& name) {
-    std::vector<std::string> names;
-    const std::pair<int, mat4>* chosen = nullptr;
-    for (const auto& entry : cameraNodes_) {
-      const tinygltf::Node& node = model_.nodes[size_t(entry.first)];
-      if (node.camera < 0 || size_t(node.camera) >= model_.cameras.size())
-        fail(path_, indexed("nodes", size_t(entry.first)) + ".camera", "camera does not exist");
-      const tinygltf::Camera& camera = model_.cameras[size_t(node.camera)];
-      if (camera.type != "perspective") {
-        warn(indexed("cameras", size_t(node.camera)) + ": " + camera.type +
-             " cameras are not supported");
-        continue;
-      }
-      const std::string label = node.name.empty() ? camera.name : node.name;
-      names.push_back(label.empty() ? indexed("cameras", size_t(node.camera)) : label);
-      if (chosen) continue;
-      if (name.empty() || name == node.name || name == camera.name) chosen = &entry;
-    }
-    if (!name.empty() && !chosen) {
-      std::string list;
-      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-      fail(path_, "",
-           "no perspective camera named '" + name +
-               "' (there are: " + (list.empty() ? "none" : list) + ")");
-    }
-    if (!chosen) return;
-    const tinygltf::Node& node = model_.nodes[size_t(chosen->first)];
-    const tinygltf::PerspectiveCamera& p = model_.cameras[size_t(node.camera)].perspective;
-    const mat4& world = chosen->second;
-    const vec3 eye = vec3(world * glm::vec4(0, 0, 0, 1));
-    const vec3 forward = vec3(world * glm::vec4(0, 0, -1, 0));
-    const vec3 up = vec3(world * glm::vec4(0, 1, 0, 0));
-    if (!(glm::length(forward) > 0.0f) || !(glm::length(glm::cross(forward, up)) > 0.0f) ||
-        !std::isfinite(eye.x + eye.y + eye.z))
-      fail(path_, indexed("nodes", size_t(chosen->first)), "the camera's transform is degenerate");
-    out_.hasCamera = true;
-    out_.camera.eye = eye;
-    out_.camera.lookAt = eye + glm::normalize(forward);
-    out_.camera.up = glm::normalize(up);
-    const double degrees = p.yfov * 180.0 / kPiD;
-    out_.camera.vfovDegrees = degrees > 0.01 && degrees < 179.9 ? float(degrees) : 40.0f;
-  }
-
   const std::string& path_;
   const tinygltf::Model& model_;
   const GltfOptions& options_;
   const ImagesNotRead& imagesNotRead_;
   GltfData& out_;
   std::vector<char> onPath_;
+  std::vector<Samples> worlds_;  // worldOf's
+  std::vector<int> parents_;
+  std::vector<char> resolving_;
   std::vector<std::pair<int, mat4>> cameraNodes_;
   std::vector<std::vector<Track>> tracks_;  // per node
   bool animating_ = false;                  // motion blur over the shutter

@@ -1,0 +1,34 @@
+// What a glTF node holds besides a mesh, for gltf_io.cpp: its KHR_lights_punctual light and its
+// camera, placed by the node's world transform. Internal to the glTF reader;
+// docs/scene-format.md says what it does.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <tiny_gltf.h>
+
+#include <glm/mat4x4.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace penumbra::gltf {
+
+// The light of `node` (its KHR_lights_punctual extension) where `world` places it: at the
+// node's origin, shining along its -z. Throws SceneError naming `where` for a light that does
+// not exist, an unknown type, a non-finite intensity or a degenerate transform; `warning` gets
+// what is not rendered (a range).
+PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& model,
+                                const tinygltf::Node& node, const glm::mat4& world,
+                                const std::string& where, std::string* warning);
+
+// The perspective camera named `name` (the first when `name` is empty) among `cameraNodes`
+// (a node and its world transform), set in `out`; false when there is none. Other camera
+// types are left out with a line in `warnings`. Throws SceneError when `name` names no
+// perspective camera, or the chosen camera's transform is degenerate.
+bool pickCamera(const std::string& path, const tinygltf::Model& model,
+                const std::vector<std::pair<int, glm::mat4>>& cameraNodes, const std::string& name,
+                Camera& out, std::vector<std::string>& warnings);
+
+}  // namespace penumbra::gltf
