@@ -185,4 +185,28 @@ double AccessorReader::decode(const unsigned char* p) const {
   }
 }
 
+std::vector<uint32_t> readIndices(const std::string& path, const tinygltf::Model& model,
+                                  const tinygltf::Primitive& primitive, size_t vertexCount,
+                                  const std::string& where) {
+  std::vector<uint32_t> order;
+  if (primitive.indices < 0) {
+    order.resize(vertexCount);
+    for (size_t k = 0; k < vertexCount; ++k) order[k] = uint32_t(k);
+    return order;
+  }
+  const AccessorReader indices(path, model, primitive.indices, where + ".indices");
+  if (indices.components() != 1 || indices.isFloat())
+    fail(path, indices.where(), "indices must be unsigned integer scalars");
+  order.resize(indices.count());
+  for (size_t k = 0; k < order.size(); ++k) {
+    const double i = indices.get(k, 0);
+    if (!(i >= 0 && i < double(vertexCount)))
+      fail(path, indices.where(),
+           "index " + std::to_string(int64_t(i)) + " at " + std::to_string(k) +
+               " is not below the " + std::to_string(vertexCount) + " vertices");
+    order[k] = uint32_t(i);
+  }
+  return order;
+}
+
 }  // namespace penumbra::gltf

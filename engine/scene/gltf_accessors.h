@@ -67,4 +67,10 @@ class AccessorReader {
   bool normalized_ = false;
 };
 
+// A primitive's vertex indices (its `indices` accessor's, each checked to be below
+// `vertexCount`, or 0, 1, 2, ... without one). Throws SceneError naming `where`.indices.
+std::vector<uint32_t> readIndices(const std::string& path, const tinygltf::Model& model,
+                                  const tinygltf::Primitive& primitive, size_t vertexCount,
+                                  const std::string& where);
+
 }  // namespace penumbra::gltf

@@ -3,6 +3,7 @@
 #include "scene/gltf_accessors.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -41,6 +42,36 @@ glm::dvec4 Track::at(double t) const {
   return v;
 }
 
+const tinygltf::AnimationSampler& readKeyTimes(
+    const std::string& path_, const tinygltf::Model& model_, const tinygltf::Animation& animation,
+    const tinygltf::AnimationChannel& channel, const std::string& where,
+    Track::Interpolation& interpolation, std::vector<double>& times) {
+  if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
+    fail(path_, where + ".sampler",
+         "sampler " + std::to_string(channel.sampler) + " does not exist");
+  const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
+  if (sampler.interpolation == "STEP")
+    interpolation = Track::Interpolation::Step;
+  else if (sampler.interpolation == "CUBICSPLINE")
+    interpolation = Track::Interpolation::CubicSpline;
+  else if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty())
+    interpolation = Track::Interpolation::Linear;
+  else
+    fail(path_, where, "unknown interpolation '" + sampler.interpolation + "'");
+  const AccessorReader input(path_, model_, sampler.input, where + ".input");
+  if (input.components() != 1 || !input.isFloat() || input.count() == 0)
+    fail(path_, input.where(), "keyframe times must be a non-empty float SCALAR accessor");
+  for (size_t k = 0; k < input.count(); ++k) {
+    const double t = input.get(k, 0);
+    if (!std::isfinite(t) || (k > 0 && !(t > times.back())))
+      fail(path_, input.where(),
+           "keyframe time " + number(t) + " at " + std::to_string(k) +
+               " is not finite and after the one before");
+    times.push_back(t);
+  }
+  return sampler;
+}
+
 Track readTrack(const std::string& path_, const tinygltf::Model& model_,
                 const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
                 const std::string& where) {
@@ -53,37 +84,16 @@ Track readTrack(const std::string& path_, const tinygltf::Model& model_,
     track.path = Track::Path::Scale;
   else
     fail(path_, where + ".target.path", "unknown path '" + channel.target_path + "'");
-  if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
-    fail(path_, where + ".sampler",
-         "sampler " + std::to_string(channel.sampler) + " does not exist");
-  const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
-  if (sampler.interpolation == "STEP")
-    track.interpolation = Track::Interpolation::Step;
-  else if (sampler.interpolation == "CUBICSPLINE")
-    track.interpolation = Track::Interpolation::CubicSpline;
-  else if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty())
-    track.interpolation = Track::Interpolation::Linear;
-  else
-    fail(path_, where, "unknown interpolation '" + sampler.interpolation + "'");
-  const AccessorReader input(path_, model_, sampler.input, where + ".input");
-  if (input.components() != 1 || !input.isFloat() || input.count() == 0)
-    fail(path_, input.where(), "keyframe times must be a non-empty float SCALAR accessor");
-  for (size_t k = 0; k < input.count(); ++k) {
-    const double t = input.get(k, 0);
-    if (!std::isfinite(t) || (k > 0 && !(t > track.times.back())))
-      fail(path_, input.where(),
-           "keyframe time " + number(t) + " at " + std::to_string(k) +
-               " is not finite and after the one before");
-    track.times.push_back(t);
-  }
+  const tinygltf::AnimationSampler& sampler =
+      readKeyTimes(path_, model_, animation, channel, where, track.interpolation, track.times);
   const int components = track.path == Track::Path::Rotation ? 4 : 3;
   const size_t perKey = track.interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
   const AccessorReader output(path_, model_, sampler.output, where + ".output");
-  if (output.components() != components || output.count() != perKey * input.count())
+  const size_t keys = track.times.size();
+  if (output.components() != components || output.count() != perKey * keys)
     fail(path_, output.where(),
-         "expected " + std::to_string(perKey * input.count()) + " VEC" +
-             std::to_string(components) + " values for " + std::to_string(input.count()) +
-             " keyframes");
+         "expected " + std::to_string(perKey * keys) + " VEC" + std::to_string(components) +
+             " values for " + std::to_string(keys) + " keyframes");
   for (size_t k = 0; k < output.count(); ++k) {
     glm::dvec4 v(0.0);
     for (int c = 0; c < components; ++c) v[c] = output.get(k, c);
@@ -93,6 +103,39 @@ Track readTrack(const std::string& path_, const tinygltf::Model& model_,
   }
   return track;
 }
+
+mat4 animatedLocal(const std::string& path_, const tinygltf::Node& node, size_t index,
+                   const std::vector<Track>& tracks, double t) {
+  glm::dvec3 translation(0.0), scale(1.0);
+  glm::dquat rotation(1.0, 0.0, 0.0, 0.0);
+  if (node.translation.size() == 3)
+    translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
+  if (node.rotation.size() == 4)
+    rotation = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+  if (node.scale.size() == 3) scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+  for (const Track& track : tracks) {
+    const glm::dvec4 v = track.at(t);
+    switch (track.path) {
+      case Track::Path::Translation:
+        translation = glm::dvec3(v);
+        break;
+      case Track::Path::Rotation:
+        rotation = glm::dquat(v.w, v.x, v.y, v.z);
+        break;
+      case Track::Path::Scale:
+        scale = glm::dvec3(v);
+        break;
+    }
+  }
+  const double length = glm::length(rotation);
+  if (!(length > 0.0) || !std::isfinite(length))
+    fail(path_, indexed("nodes", index) + ".rotation", "not a rotation quaternion");
+  const glm::dmat4 m = glm::translate(glm::dmat4(1.0), translation) *
+                       glm::mat4_cast(rotation / length) * glm::scale(glm::dmat4(1.0), scale);
+  return mat4(m);
+}
+
+// The node's local transform over the shutter.
 
 int motionSegments(const std::vector<glm::mat4>& world, float radius) {
   const auto scaleOf = [](const mat4& m) {

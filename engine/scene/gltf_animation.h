@@ -34,11 +34,23 @@ struct Track {
   glm::dvec4 at(double t) const;
 };
 
+// Reads `channel`'s sampler's interpolation and keyframe times (finite, increasing); returns the
+// sampler. Throws SceneError naming `where`.
+const tinygltf::AnimationSampler& readKeyTimes(
+    const std::string& path, const tinygltf::Model& model, const tinygltf::Animation& animation,
+    const tinygltf::AnimationChannel& channel, const std::string& where,
+    Track::Interpolation& interpolation, std::vector<double>& times);
+
 // Reads `channel`'s sampler: keyframe times (finite, increasing) and values (VEC3, or VEC4 for a
 // rotation; three per key for CUBICSPLINE). Throws SceneError naming `where`.
 Track readTrack(const std::string& path, const tinygltf::Model& model,
                 const tinygltf::Animation& animation, const tinygltf::AnimationChannel& channel,
                 const std::string& where);
+
+// Node `index`'s local transform at animation time t: its TRS with the parts its `tracks`
+// animate replaced. Throws SceneError when the rotation is not a quaternion.
+glm::mat4 animatedLocal(const std::string& path, const tinygltf::Node& node, size_t index,
+                        const std::vector<Track>& tracks, double t);
 
 // The samples of a transform over the shutter that motion is measured on.
 constexpr int kMotionSamples = 129;

@@ -6,6 +6,7 @@
 #include "scene/gltf_compression.h"
 #include "scene/gltf_file.h"
 #include "scene/gltf_material_layers.h"
+#include "scene/gltf_morph.h"
 #include "scene/gltf_node_objects.h"
 #include "scene/gltf_skin.h"
 #include "scene/gltf_textures.h"
@@ -82,19 +83,27 @@ class Converter {
   // interval: from the frame time (default: the animations' start) for shutterSeconds.
   void animations() {
     tracks_.assign(model_.nodes.size(), {});
+    weightTracks_.assign(model_.nodes.size(), std::nullopt);
     double start = INFINITY;
     for (size_t a = 0; a < model_.animations.size(); ++a) {
       const tinygltf::Animation& animation = model_.animations[a];
       for (size_t c = 0; c < animation.channels.size(); ++c) {
         const tinygltf::AnimationChannel& channel = animation.channels[c];
         const std::string where = indexed("animations", a) + "." + indexed("channels", c);
-        if (channel.target_path == "weights") {
-          warn(where + ": morph target weights are not animated");
-          continue;
-        }
         if (channel.target_node < 0 || size_t(channel.target_node) >= model_.nodes.size())
           fail(path_, where + ".target.node",
                "node " + std::to_string(channel.target_node) + " does not exist");
+        if (channel.target_path == "weights") {
+          const size_t targets = morphTargetCount(channel.target_node);
+          if (targets == 0) {
+            warn(where + ": animates the weights of a node without morph targets");
+            continue;
+          }
+          auto& track = weightTracks_[size_t(channel.target_node)];
+          track = readWeightsTrack(path_, model_, animation, channel, targets, where);
+          start = std::min(start, track->times.front());
+          continue;
+        }
         if (!model_.nodes[size_t(channel.target_node)].matrix.empty())
           fail(path_, where,
                "animates " + indexed("nodes", size_t(channel.target_node)) +
@@ -357,46 +366,44 @@ class Converter {
     return uint32_t(defaultMaterial_);
   }
 
-  // The node's local transform at animation time t: its TRS with the animated parts replaced.
-  mat4 animatedLocal(const tinygltf::Node& node, size_t index, double t) const {
-    glm::dvec3 translation(0.0), scale(1.0);
-    glm::dquat rotation(1.0, 0.0, 0.0, 0.0);
-    if (node.translation.size() == 3)
-      translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
-    if (node.rotation.size() == 4)
-      rotation = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
-    if (node.scale.size() == 3) scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
-    for (const Track& track : tracks_[index]) {
-      const glm::dvec4 v = track.at(t);
-      switch (track.path) {
-        case Track::Path::Translation:
-          translation = glm::dvec3(v);
-          break;
-        case Track::Path::Rotation:
-          rotation = glm::dquat(v.w, v.x, v.y, v.z);
-          break;
-        case Track::Path::Scale:
-          scale = glm::dvec3(v);
-          break;
-      }
-    }
-    const double length = glm::length(rotation);
-    if (!(length > 0.0) || !std::isfinite(length))
-      fail(path_, indexed("nodes", index) + ".rotation", "not a rotation quaternion");
-    const glm::dmat4 m = glm::translate(glm::dmat4(1.0), translation) *
-                         glm::mat4_cast(rotation / length) * glm::scale(glm::dmat4(1.0), scale);
-    return mat4(m);
-  }
-
-  // The node's local transform over the shutter.
   Samples localSamples(const tinygltf::Node& node, size_t index) const {
     if (tracks_.empty() || tracks_[index].empty()) return {localTransform(path_, node, index)};
-    if (!animating_) return {animatedLocal(node, index, out_.frameTime)};
+    if (!animating_) return {animatedLocal(path_, node, index, tracks_[index], out_.frameTime)};
     Samples samples(kSamples);
     for (int j = 0; j < kSamples; ++j)
-      samples[size_t(j)] = animatedLocal(
-          node, index, out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
+      samples[size_t(j)] =
+          animatedLocal(path_, node, index, tracks_[index],
+                        out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
     return samples;
+  }
+
+  // The morph targets of the mesh of node `index` (its first primitive's; 0 without a mesh).
+  size_t morphTargetCount(int index) const {
+    const int mesh = model_.nodes[size_t(index)].mesh;
+    if (mesh < 0 || size_t(mesh) >= model_.meshes.size()) return 0;
+    const auto& primitives = model_.meshes[size_t(mesh)].primitives;
+    return primitives.empty() ? 0 : primitives.front().targets.size();
+  }
+
+  // A node's morph weights: the node's, else its mesh's; over the shutter as the transforms
+  // are sampled when an animation drives them. Empty: none.
+  std::vector<std::vector<float>> morphWeights(const tinygltf::Node& node, size_t index) const {
+    if (size_t(node.mesh) >= model_.meshes.size()) return {};  // addMesh says so
+    const auto& track = weightTracks_[index];
+    if (track) {
+      if (!animating_) return {track->at(out_.frameTime)};
+      std::vector<std::vector<float>> samples(kSamples);
+      for (int j = 0; j < kSamples; ++j)
+        samples[size_t(j)] =
+            track->at(out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
+      return samples;
+    }
+    const std::vector<double>& fixed =
+        node.weights.empty() ? model_.meshes[size_t(node.mesh)].weights : node.weights;
+    if (fixed.empty()) return {};
+    std::vector<float> weights;
+    for (double w : fixed) weights.push_back(std::isfinite(w) ? float(w) : 0.0f);
+    return {weights};
   }
 
   // A node's world transform samples found up its chain of parents (a skin's joints: they need
@@ -448,9 +455,9 @@ class Converter {
       const gltf::SkinPose pose = poseSkin(
           path_, model_, node.skin, [&](int n) -> const Samples& { return worldOf(n); },
           where + ".skin");
-      addMesh(node.mesh, world, where, &pose);
+      addMesh(node.mesh, world, where, {&pose, morphWeights(node, size_t(index))});
     } else if (node.mesh >= 0) {
-      addMesh(node.mesh, world, where);
+      addMesh(node.mesh, world, where, {nullptr, morphWeights(node, size_t(index))});
     }
     // Cameras and lights are placed where they are when the shutter opens.
     if (node.camera >= 0) cameraNodes_.push_back({index, world.front()});
@@ -465,20 +472,46 @@ class Converter {
 
   // A mesh instance: into the static mesh when it does not move, else one mesh per primitive
   // with as many time steps as its motion needs.
-  // A skinned mesh (`skin`) moves when its joints do, and `world` is not used.
-  void addMesh(int meshIndex, const Samples& world, const std::string& from,
-               const gltf::SkinPose* skin = nullptr) {
+  // How a mesh instance's vertices are placed besides its node's transform: a skin's pose
+  // (which replaces that transform) and morph weights, each one per time step, or one when
+  // still.
+  struct Deform {
+    const gltf::SkinPose* skin = nullptr;
+    std::vector<std::vector<float>> morph;  // [step][target]; empty: none
+  };
+
+  // A mesh instance: into the static mesh when it does not move (nor its joints or morph
+  // weights), else one mesh per primitive with as many time steps as its motion needs.
+  void addMesh(int meshIndex, const Samples& world, const std::string& from, const Deform& deform) {
     if (size_t(meshIndex) >= model_.meshes.size())
       fail(path_, from, "mesh " + std::to_string(meshIndex) + " does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
     bool moves = false;
     for (const mat4& m : world) moves = moves || m != world.front();
-    if (skin) moves = skin->moves();
+    if (deform.skin) moves = deform.skin->moves();
+    for (const std::vector<float>& w : deform.morph) moves = moves || w != deform.morph.front();
+    const size_t last = kSamples - 1;
+    const auto pick = [](const auto& samples, size_t at) {
+      return samples[std::min(at, samples.size() - 1)];
+    };
+    // The samples every `stride` apart: the node's transforms into `steps`, the rest returned.
+    gltf::SkinPose pose;
+    const auto stepped = [&](size_t stride, Samples& steps) {
+      Deform out;
+      for (size_t at = 0; at <= last; at += stride) {
+        steps.push_back(pick(world, at));
+        if (deform.skin) pose.steps.push_back(pick(deform.skin->steps, at));
+        if (!deform.morph.empty()) out.morph.push_back(pick(deform.morph, at));
+      }
+      if (deform.skin) out.skin = &pose;
+      return out;
+    };
     if (!moves) {
-      const gltf::SkinPose still = skin ? skin->every(skin->steps.size()) : gltf::SkinPose{};
+      Samples steps;
+      const Deform still = stepped(kSamples, steps);
       for (size_t p = 0; p < mesh.primitives.size(); ++p)
-        addPrimitive(mesh, size_t(meshIndex), p, {world.front()}, out_.mesh, anyNormals_, anyUvs_,
-                     anyColors_, skin ? &still : nullptr);
+        addPrimitive(mesh, size_t(meshIndex), p, steps, out_.mesh, anyNormals_, anyUvs_, anyColors_,
+                     still);
       return;
     }
     float radius = 0;
@@ -490,30 +523,29 @@ class Converter {
         radius =
             std::max(radius, float(glm::length(glm::dvec3(r.get(v, 0), r.get(v, 1), r.get(v, 2)))));
     }
-    const int segments = skin ? skin->segments(radius) : motionSegments(world, radius);
-    const int stride = (kSamples - 1) / segments;
+    int segments = 1;
+    if (deform.skin && deform.skin->steps.size() > 1) segments = deform.skin->segments(radius);
+    if (!deform.skin && world.size() > 1) segments = motionSegments(world, radius);
+    if (deform.morph.size() > 1) segments = std::max(segments, gltf::weightSegments(deform.morph));
     Samples steps;
-    for (int k = 0; k <= segments; ++k)
-      steps.push_back(world[std::min(size_t(k * stride), world.size() - 1)]);
-    const gltf::SkinPose posed = skin ? skin->every(size_t(stride)) : gltf::SkinPose{};
+    const Deform moving = stepped(last / size_t(segments), steps);
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-      Mesh moving;
-      moving.name =
+      Mesh target;
+      target.name =
           (model_.meshes[size_t(meshIndex)].name.empty() ? indexed("meshes", size_t(meshIndex))
                                                          : model_.meshes[size_t(meshIndex)].name);
-      moving.timeSteps = int(steps.size());
+      target.timeSteps = int(steps.size());
       bool normals = false, uvs = false, colors = false;
-      addPrimitive(mesh, size_t(meshIndex), p, steps, moving, normals, uvs, colors,
-                   skin ? &posed : nullptr);
-      if (!moving.indices.empty()) out_.animatedMeshes.push_back(std::move(moving));
+      addPrimitive(mesh, size_t(meshIndex), p, steps, target, normals, uvs, colors, moving);
+      if (!target.indices.empty()) out_.animatedMeshes.push_back(std::move(target));
     }
   }
 
-  // Appends one primitive to `target` (vertex time steps as many as `steps`, or as the
-  // skin's; a target with several steps receives one primitive only).
+  // Appends one primitive to `target` (vertex time steps as many as `steps`; a target with
+  // several steps receives one primitive only).
   void addPrimitive(const tinygltf::Mesh& mesh, size_t meshIndex, size_t p, const Samples& steps,
                     Mesh& target, bool& anyNormals, bool& anyUvs, bool& anyColors,
-                    const gltf::SkinPose* skin = nullptr) {
+                    const Deform& deform) {
     const tinygltf::Primitive& prim = mesh.primitives[p];
     const std::string where = indexed("meshes", meshIndex) + "." + indexed("primitives", p);
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -521,7 +553,6 @@ class Converter {
       warn(where + ": points and lines are not rendered");
       return;
     }
-    if (!prim.targets.empty()) warn(where + ": morph targets are not applied");
     const auto position = prim.attributes.find("POSITION");
     if (position == prim.attributes.end()) fail(path_, where, "no POSITION attribute");
     const AccessorReader positions(path_, model_, position->second, where + ".POSITION");
@@ -530,13 +561,21 @@ class Converter {
     if (positions.components() != 3) fail(path_, positions.where(), "POSITION must be VEC3");
     const size_t vertexCount = positions.count();
     if (vertexCount == 0) return;
-    const size_t stepCount = skin ? skin->steps.size() : steps.size();
+    const size_t stepCount = steps.size();
+    const gltf::SkinPose* skin = deform.skin;
     if (vertexCount * stepCount > kMaxVertices - totalVertices_)
       fail(path_, where,
            "the scene would have more than " + std::to_string(kMaxVertices) + " vertices");
     totalVertices_ += vertexCount * stepCount;
     std::optional<gltf::SkinWeights> weights;
     if (skin) weights.emplace(path_, model_, prim, vertexCount, skin->jointCount(), where);
+    std::optional<gltf::MorphTargets> morph;
+    if (!prim.targets.empty() && !deform.morph.empty())
+      morph.emplace(path_, model_, prim, vertexCount, where);
+    // Attribute a (0: position, 1: normal, 2: tangent) of vertex v morphed as at step s.
+    const auto morphed = [&](int a, size_t s, size_t v, vec3 value) {
+      return morph ? morph->displaced(a, v, value, deform.morph[s]) : value;
+    };
     // Vertex v's transform at step s: the node's, or the blend of its joints'.
     const auto transform = [&](size_t s, size_t v) {
       return weights ? weights->matrix(v, skin->steps[s]) : steps[s];
@@ -551,26 +590,30 @@ class Converter {
     const int normalAccessor = accessorOf("NORMAL");
     for (size_t s = 0; s < stepCount; ++s) {
       for (size_t v = 0; v < vertexCount; ++v) {
-        const glm::vec4 pw =
-            transform(s, v) * glm::vec4(float(positions.get(v, 0)), float(positions.get(v, 1)),
-                                        float(positions.get(v, 2)), 1.0f);
+        const vec3 p = morphed(0, s, v,
+                               vec3(float(positions.get(v, 0)), float(positions.get(v, 1)),
+                                    float(positions.get(v, 2))));
+        const glm::vec4 pw = transform(s, v) * glm::vec4(p, 1.0f);
         if (!std::isfinite(pw.x + pw.y + pw.z))
           fail(path_, positions.where(), "non-finite position");
         target.positions.push_back(vec3(pw));
       }
       const glm::mat3 nodeNormals = glm::inverseTranspose(glm::mat3(transform(s, 0)));
-      appendAttribute(target, normalAccessor, where + ".NORMAL", vertexCount, 3, target.normals,
-                      anyNormals, [&](const AccessorReader& r, size_t v) {
-                        const glm::mat3 m = weights
-                                                ? glm::inverseTranspose(glm::mat3(transform(s, v)))
-                                                : nodeNormals;
-                        return m * vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2)));
-                      });
+      appendAttribute(
+          target, normalAccessor, where + ".NORMAL", vertexCount, 3, target.normals, anyNormals,
+          [&](const AccessorReader& r, size_t v) {
+            const glm::mat3 m =
+                weights ? glm::inverseTranspose(glm::mat3(transform(s, v))) : nodeNormals;
+            return m * morphed(1, s, v,
+                               vec3(float(r.get(v, 0)), float(r.get(v, 1)), float(r.get(v, 2))));
+          });
     }
     if (stepCount == 1)  // a moving primitive's normal maps take its triangles' frames
       appendAttribute(target, accessorOf("TANGENT"), where + ".TANGENT", vertexCount, 4,
                       target.tangents, anyTangents_, [&](const AccessorReader& r, size_t v) {
-                        const glm::vec4 t(r.get(v, 0), r.get(v, 1), r.get(v, 2), r.get(v, 3));
+                        const glm::vec4 t(
+                            morphed(2, 0, v, vec3(r.get(v, 0), r.get(v, 1), r.get(v, 2))),
+                            r.get(v, 3));
                         return transformTangent(glm::mat3(transform(0, v)), t);
                       });
     appendAttribute(target, accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
@@ -589,24 +632,7 @@ class Converter {
         vec3(1.0f), 4);
     target.vertexCount += uint32_t(vertexCount);
 
-    std::vector<uint32_t> order;
-    if (prim.indices >= 0) {
-      const AccessorReader indices(path_, model_, prim.indices, where + ".indices");
-      if (indices.components() != 1 || indices.isFloat())
-        fail(path_, indices.where(), "indices must be unsigned integer scalars");
-      order.resize(indices.count());
-      for (size_t k = 0; k < order.size(); ++k) {
-        const double i = indices.get(k, 0);
-        if (!(i >= 0 && i < double(vertexCount)))
-          fail(path_, indices.where(),
-               "index " + std::to_string(int64_t(i)) + " at " + std::to_string(k) +
-                   " is not below the " + std::to_string(vertexCount) + " vertices");
-        order[k] = uint32_t(i);
-      }
-    } else {
-      order.resize(vertexCount);
-      for (size_t k = 0; k < vertexCount; ++k) order[k] = uint32_t(k);
-    }
+    const std::vector<uint32_t> order = readIndices(path_, model_, prim, vertexCount, where);
     if (order.size() > 3 * (kMaxVertices - totalTriangles_))
       fail(path_, where,
            "the scene would have more than " + std::to_string(kMaxVertices) + " triangles");
@@ -686,8 +712,9 @@ class Converter {
   std::vector<int> parents_;
   std::vector<char> resolving_;
   std::vector<std::pair<int, mat4>> cameraNodes_;
-  std::vector<std::vector<Track>> tracks_;  // per node
-  bool animating_ = false;                  // motion blur over the shutter
+  std::vector<std::vector<Track>> tracks_;                       // per node
+  std::vector<std::optional<gltf::WeightsTrack>> weightTracks_;  // per node
+  bool animating_ = false;                                       // motion blur over the shutter
   std::set<std::string> warned_;
   // A texture of ours: the image, its conversion, and its factor, wrap modes and uv transform.
   using TextureKey = std::tuple<int, int, std::array<float, 12>>;

@@ -14,13 +14,6 @@ bool SkinPose::moves() const {
   return false;
 }
 
-SkinPose SkinPose::every(size_t stride) const {
-  SkinPose out;
-  for (size_t s = 0; s < steps.size(); s += std::max<size_t>(stride, 1))
-    out.steps.push_back(steps[s]);
-  return out;
-}
-
 int SkinPose::segments(float radius) const {
   int most = 1;
   std::vector<glm::mat4> joint(steps.size());

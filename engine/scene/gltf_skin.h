@@ -24,10 +24,8 @@ struct SkinPose {
   size_t jointCount() const { return steps.empty() ? 0 : steps.front().size(); }
   // Whether a joint's matrix differs between the steps.
   bool moves() const;
-  // The steps every `stride` apart (the first, then every stride-th).
-  SkinPose every(size_t stride) const;
   // The fewest segments of equal time (motionSegments) that follow every joint within 0.1% of
-  // `radius`, the mesh's size about its origin.
+  // `radius`, the mesh's size about its origin; the steps are kMotionSamples.
   int segments(float radius) const;
 };
 

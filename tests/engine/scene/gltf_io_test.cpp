@@ -542,7 +542,6 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["materials"][0]["occlusionTexture"] = {{"index", 0}};
   j["materials"][1]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
   j["extensionsUsed"].push_back("KHR_materials_sheen");
-  j["skins"] = Json::array();
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
   const std::string all = allWarnings(g);
   for (const char* part : {"materials[0]: occlusionTexture is ignored",

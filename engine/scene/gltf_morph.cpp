@@ -1,0 +1,119 @@
+#include "scene/gltf_morph.h"
+
+#include "scene/gltf_accessors.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::gltf {
+
+std::vector<float> WeightsTrack::at(double t) const {
+  const size_t n = times.size();
+  const size_t parts = interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
+  const size_t middle = parts == 3 ? 1 : 0;
+  const auto value = [&](size_t key, size_t part, size_t i) {
+    return values[(key * parts + part) * targets + i];
+  };
+  std::vector<float> out(targets);
+  size_t k = 0;
+  double u = 0, dt = 0;
+  const bool before = t <= times.front(), after = t >= times.back();
+  if (!before && !after) {
+    k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
+    dt = times[k + 1] - times[k];
+    u = dt > 0 ? (t - times[k]) / dt : 0.0;
+  }
+  for (size_t i = 0; i < targets; ++i) {
+    double v;
+    if (before || after)
+      v = value(before ? 0 : n - 1, middle, i);
+    else if (interpolation == Track::Interpolation::Step)
+      v = value(k, middle, i);
+    else if (interpolation == Track::Interpolation::Linear)
+      v = (1 - u) * value(k, 0, i) + u * value(k + 1, 0, i);
+    else {
+      const double u2 = u * u, u3 = u2 * u;
+      v = (2 * u3 - 3 * u2 + 1) * value(k, 1, i) + (u3 - 2 * u2 + u) * dt * value(k, 2, i) +
+          (-2 * u3 + 3 * u2) * value(k + 1, 1, i) + (u3 - u2) * dt * value(k + 1, 0, i);
+    }
+    out[i] = float(v);
+  }
+  return out;
+}
+
+WeightsTrack readWeightsTrack(const std::string& path, const tinygltf::Model& model,
+                              const tinygltf::Animation& animation,
+                              const tinygltf::AnimationChannel& channel, size_t targets,
+                              const std::string& where) {
+  WeightsTrack track;
+  track.targets = targets;
+  const tinygltf::AnimationSampler& sampler =
+      readKeyTimes(path, model, animation, channel, where, track.interpolation, track.times);
+  const size_t parts = track.interpolation == Track::Interpolation::CubicSpline ? 3 : 1;
+  const AccessorReader output(path, model, sampler.output, where + ".output");
+  const size_t expected = parts * track.times.size() * targets;
+  if (output.components() != 1 || output.count() != expected)
+    fail(path, output.where(),
+         "expected " + std::to_string(expected) + " SCALAR weights: " + std::to_string(targets) +
+             " targets for each of " + std::to_string(track.times.size()) + " keyframes");
+  for (size_t k = 0; k < expected; ++k) {
+    const double v = output.get(k, 0);
+    if (!std::isfinite(v)) fail(path, output.where(), "non-finite value at " + std::to_string(k));
+    track.values.push_back(v);
+  }
+  return track;
+}
+
+int weightSegments(const std::vector<std::vector<float>>& samples) {
+  const int last = int(samples.size()) - 1;
+  if (last < 1) return 1;
+  for (int segments = 1; segments < last; segments *= 2) {
+    const int stride = last / segments;
+    float worst = 0;
+    for (int j = 0; j <= last; ++j) {
+      const int s = std::min(j / stride, segments - 1);
+      const float w = float(j - s * stride) / float(stride);
+      const std::vector<float>&a = samples[size_t(s * stride)],
+            &b = samples[size_t((s + 1) * stride)];
+      for (size_t i = 0; i < a.size(); ++i)
+        worst = std::max(worst, std::abs((1 - w) * a[i] + w * b[i] - samples[size_t(j)][i]));
+    }
+    if (worst <= 1e-3f) return segments;
+  }
+  return last;
+}
+
+MorphTargets::MorphTargets(const std::string& path, const tinygltf::Model& model,
+                           const tinygltf::Primitive& primitive, size_t vertexCount,
+                           const std::string& where) {
+  static const char* const kNames[3] = {"POSITION", "NORMAL", "TANGENT"};
+  for (size_t t = 0; t < primitive.targets.size(); ++t) {
+    Target target;
+    for (int a = 0; a < 3; ++a) {
+      const auto it = primitive.targets[t].find(kNames[a]);
+      if (it == primitive.targets[t].end()) continue;
+      const AccessorReader r(path, model, it->second,
+                             where + "." + indexed("targets", t) + "." + kNames[a]);
+      if (r.components() != 3 || r.count() != vertexCount)
+        fail(path, r.where(), "expected " + std::to_string(vertexCount) + " VEC3 displacements");
+      target.deltas[a].resize(vertexCount);
+      for (size_t v = 0; v < vertexCount; ++v) {
+        const glm::vec3 d(r.get(v, 0), r.get(v, 1), r.get(v, 2));
+        target.deltas[a][v] = std::isfinite(d.x + d.y + d.z) ? d : glm::vec3(0.0f);
+      }
+    }
+    targets_.push_back(std::move(target));
+  }
+}
+
+glm::vec3 MorphTargets::displaced(int attribute, size_t v, glm::vec3 value,
+                                  const std::vector<float>& weights) const {
+  const size_t n = std::min(targets_.size(), weights.size());
+  for (size_t t = 0; t < n; ++t) {
+    const std::vector<glm::vec3>& d = targets_[t].deltas[attribute];
+    if (weights[t] != 0.0f && !d.empty()) value += weights[t] * d[v];
+  }
+  return value;
+}
+
+}  // namespace penumbra::gltf
