@@ -196,10 +196,6 @@ class Converter {
               vec3 factor) {
     return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
   }
-  int texture(const tinygltf::NormalTextureInfo& info, const std::string& where, Texels texels,
-              vec3 factor) {
-    return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
-  }
 
   // The image a texture reads: EXT_texture_webp's when it names one (a fallback in `source`
   // is for viewers that read no WebP), else `source`.
@@ -318,10 +314,15 @@ class Converter {
     if (m.extensions.count("KHR_materials_transmission") &&
         m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
       warn(where + ": transmissionTexture is not read (the factor is)");
-    for (const std::string& w : readMaterialLayers(path_, m, where, out)) warn(w);
+    const auto layerTexture = [&](int index, int texCoord, const tinygltf::ExtensionMap& e,
+                                  const std::string& field, Texels texels) {
+      return texture(index, texCoord, e, field, texels, vec3(1.0f));
+    };
+    for (const std::string& w : readMaterialLayers(path_, m, where, out, layerTexture)) warn(w);
     if (m.normalTexture.index >= 0) {
       out.normalTexture =
-          texture(m.normalTexture, where + ".normalTexture", Texels::Data, vec3(1.0f));
+          texture(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,
+                  where + ".normalTexture", Texels::Data, vec3(1.0f));
       out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
     }
     if (m.occlusionTexture.index >= 0)

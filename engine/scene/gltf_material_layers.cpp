@@ -16,15 +16,30 @@ float unitFactor(const tinygltf::Value& extension, const char* key, float fallba
   return std::isfinite(v) ? std::clamp(float(v), 0.0f, 1.0f) : fallback;
 }
 
+// The extension's texture reference `key` converted by `texture`; -1 when absent.
+int layerTexture(const std::string& path, const tinygltf::Value& extension, const char* key,
+                 const std::string& where, Texels texels, const LayerTexture& texture) {
+  if (!extension.Has(key)) return -1;
+  const tinygltf::Value& info = extension.Get(key);
+  const std::string field = where + "." + key;
+  if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt())
+    fail(path, field, "must be a texture reference with an index");
+  const int texCoord = info.Has("texCoord") && info.Get("texCoord").IsInt()
+                           ? info.Get("texCoord").GetNumberAsInt()
+                           : 0;
+  tinygltf::ExtensionMap extensions;
+  if (info.Has("extensions") && info.Get("extensions").IsObject())
+    for (const std::string& name : info.Get("extensions").Keys())
+      extensions[name] = info.Get("extensions").Get(name);
+  return texture(info.Get("index").GetNumberAsInt(), texCoord, extensions, field, texels);
+}
+
 }  // namespace
 
 std::vector<std::string> readMaterialLayers(const std::string& path, const tinygltf::Material& m,
-                                            const std::string& where, Material& out) {
+                                            const std::string& where, Material& out,
+                                            const LayerTexture& texture) {
   std::vector<std::string> warnings;
-  auto texturesNotRead = [&](const tinygltf::Value& e, std::initializer_list<const char*> names) {
-    for (const char* t : names)
-      if (e.Has(t)) warnings.push_back(where + ": " + t + " is not read (the factor is)");
-  };
   if (const auto it = m.extensions.find("KHR_materials_specular");
       it != m.extensions.end() && it->second.IsObject()) {
     const tinygltf::Value& e = it->second;
@@ -40,14 +55,24 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
         out.specularColor[k] = float(v);
       }
     }
-    texturesNotRead(e, {"specularTexture", "specularColorTexture"});
+    const std::string field = where + ".extensions.KHR_materials_specular";
+    // The weight is in the alpha channel; an image without one is 1 (the factor alone).
+    out.specularTexture = layerTexture(path, e, "specularTexture", field, Texels::Alpha, texture);
+    out.specularColorTexture =
+        layerTexture(path, e, "specularColorTexture", field, Texels::Color, texture);
   }
   if (const auto it = m.extensions.find("KHR_materials_clearcoat");
       it != m.extensions.end() && it->second.IsObject()) {
     const tinygltf::Value& e = it->second;
     out.clearcoat = unitFactor(e, "clearcoatFactor", 0.0f);
     out.clearcoatRoughness = unitFactor(e, "clearcoatRoughnessFactor", 0.0f);
-    texturesNotRead(e, {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"});
+    const std::string field = where + ".extensions.KHR_materials_clearcoat";
+    out.clearcoatTexture = layerTexture(path, e, "clearcoatTexture", field, Texels::Data, texture);
+    out.clearcoatRoughnessTexture =
+        layerTexture(path, e, "clearcoatRoughnessTexture", field, Texels::Data, texture);
+    if (e.Has("clearcoatNormalTexture"))
+      warnings.push_back(
+          where + ": clearcoatNormalTexture is not read (the coat takes the surface's normal)");
   }
   return warnings;
 }

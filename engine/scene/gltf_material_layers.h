@@ -5,17 +5,29 @@
 
 #include "scene/scene.h"
 
+#include "scene/gltf_textures.h"
+
 #include <tiny_gltf.h>
+
+#include <functional>
 
 #include <string>
 #include <vector>
 
 namespace penumbra::gltf {
 
-// Reads the extensions' factors into `out` (Material::specular, specularColor, clearcoat,
-// clearcoatRoughness); returns a warning for each texture of theirs, which is not read. Throws
-// SceneError naming the file and the field for a malformed specularColorFactor.
+// Converts a texture reference (its texture, uv set and extensions) into one of the scene's,
+// read as `texels` say; -1 when it is left out. `where` names the reference.
+using LayerTexture =
+    std::function<int(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
+                      const std::string& where, Texels texels)>;
+
+// Reads the extensions' factors and textures into `out` (Material::specular, specularColor,
+// clearcoat, clearcoatRoughness and their textures, converted by `texture`); returns a warning
+// for each texture that is not read (the coat's normal map). Throws SceneError naming the file
+// and the field for a malformed specularColorFactor or texture reference.
 std::vector<std::string> readMaterialLayers(const std::string& path, const tinygltf::Material& m,
-                                            const std::string& where, Material& out);
+                                            const std::string& where, Material& out,
+                                            const LayerTexture& texture);
 
 }  // namespace penumbra::gltf

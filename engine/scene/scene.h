@@ -16,6 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -90,21 +91,44 @@ struct Material {
   // at normal incidence is min(f0(ior) x specularColor, 1) x specular, at grazing specular.
   float specular = 1.0f;
   vec3 specularColor = vec3(1.0f);
+  int specularTexture = -1;       // multiplies `specular` (its first channel, linear)
+  int specularColorTexture = -1;  // multiplies `specularColor`
   // Pbr: glTF's KHR_materials_clearcoat: a clear GGX layer (ior 1.5, untinted) of this weight
   // and roughness over the whole material.
   float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
-  int metallicRoughnessTexture = -1;  // Pbr: roughness x green, metallic x blue (linear data)
-  int emissionTexture = -1;           // multiplies `emission`; -1: uniform
-  int normalTexture = -1;             // tangent-space normal map (linear, +y along +v); -1: none
-  float normalScale = 1.0f;           // scales the map's x and y
-  int alphaTexture = -1;              // cut-out: coverage in the texture's first channel; -1: none
-  float alpha = 1.0f;                 // coverage factor (times the texture's)
-  float alphaCutoff = -1.0f;          // coverage below it is a hole; negative: opaque
+  int clearcoatTexture = -1;           // weight x red (linear data)
+  int clearcoatRoughnessTexture = -1;  // roughness x green (linear data)
+  int metallicRoughnessTexture = -1;   // Pbr: roughness x green, metallic x blue (linear data)
+  int emissionTexture = -1;            // multiplies `emission`; -1: uniform
+  int normalTexture = -1;              // tangent-space normal map (linear, +y along +v); -1: none
+  float normalScale = 1.0f;            // scales the map's x and y
+  int alphaTexture = -1;               // cut-out: coverage in the texture's first channel; -1: none
+  float alpha = 1.0f;                  // coverage factor (times the texture's)
+  float alphaCutoff = -1.0f;           // coverage below it is a hole; negative: opaque
   // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
   // per ray (stochastic transparency), instead of a cutoff.
   bool alphaBlend = false;
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   bool hasCutouts() const { return alphaCutoff >= 0.0f || alphaBlend; }
+  // Every texture id of the material (-1 where it has none).
+  std::array<int*, 9> textureIds() {
+    return {&albedoTexture,
+            &metallicRoughnessTexture,
+            &emissionTexture,
+            &normalTexture,
+            &alphaTexture,
+            &specularTexture,
+            &specularColorTexture,
+            &clearcoatTexture,
+            &clearcoatRoughnessTexture};
+  }
+  // Whether its surface reads a texture when shaded (cut-outs are Embree's): its hits need
+  // their uv footprint.
+  bool textured() const {
+    return albedoTexture >= 0 || metallicRoughnessTexture >= 0 || emissionTexture >= 0 ||
+           normalTexture >= 0 || specularTexture >= 0 || specularColorTexture >= 0 ||
+           clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0;
+  }
 };
 
 // A light that is a point or a direction (glTF's KHR_lights_punctual): it cannot be hit by a

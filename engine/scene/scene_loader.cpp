@@ -345,8 +345,7 @@ int appendGltfTextures(Scene& scene, GltfData& gltf) {
 
 // Moves a texture id of a glTF file's material into the scene's numbering.
 void offsetTextures(Material& m, int offset) {
-  for (int* id : {&m.albedoTexture, &m.emissionTexture, &m.normalTexture, &m.alphaTexture,
-                  &m.metallicRoughnessTexture})
+  for (int* id : m.textureIds())
     if (*id >= 0) *id += offset;
 }
 

@@ -51,7 +51,15 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.specular = m.specular;
   b.specularColor = m.specularColor;
   b.coat = m.clearcoat;
-  b.coatAlpha = std::clamp(m.clearcoatRoughness * m.clearcoatRoughness, 1e-3f, 1.0f);
+  float coatRoughness = m.clearcoatRoughness;
+  const auto texel = [&](int texture) {
+    return evalTexture(scene, scene.textures[size_t(texture)], s.uv, s.footprint);
+  };
+  if (m.specularTexture >= 0) b.specular *= std::clamp(texel(m.specularTexture).x, 0.0f, 1.0f);
+  if (m.specularColorTexture >= 0) b.specularColor *= texel(m.specularColorTexture);
+  if (m.clearcoatTexture >= 0) b.coat *= std::clamp(texel(m.clearcoatTexture).x, 0.0f, 1.0f);
+  if (m.clearcoatRoughnessTexture >= 0) coatRoughness *= texel(m.clearcoatRoughnessTexture).y;
+  b.coatAlpha = std::clamp(coatRoughness * coatRoughness, 1e-3f, 1.0f);
   b.frame = makeFrame(s.shadingNormal);
   b.geometricNormal = s.geometricNormal;
   return b;
@@ -220,8 +228,7 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
   // The triangle's tangents orient a normal map and turn differentials into a uv footprint:
   // only a textured material needs them.
   const Material& material = scene.materials[s.materialId];
-  const bool textured = material.albedoTexture >= 0 || material.metallicRoughnessTexture >= 0 ||
-                        material.emissionTexture >= 0 || material.normalTexture >= 0;
+  const bool textured = material.textured();
   vec3 dpdu, dpdv, dpdx, dpdy;
   if (!textured || mesh.uvs.empty() ||
       !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],

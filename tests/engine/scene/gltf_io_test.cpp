@@ -556,18 +556,36 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   j["materials"][0]["extensions"]["KHR_materials_specular"] = {
       {"specularFactor", 0.5},
       {"specularColorFactor", {1.0, 0.5, 0.25}},
-      {"specularTexture", {{"index", 0}}}};
+      {"specularTexture", {{"index", 0}}},
+      {"specularColorTexture", {{"index", 1}}}};
+  // Image 0: the weight in its alpha (128); image 1: an sRGB colour.
+  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 128})}},
+                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}};
   j["extensionsUsed"].push_back("KHR_materials_specular");
   const GltfData g = loadGltf(writeGltf("specular.gltf", j));
-  EXPECT_FLOAT_EQ(g.materials[0].specular, 0.5f);
-  EXPECT_EQ(g.materials[0].specularColor, vec3(1.0f, 0.5f, 0.25f));
+  const Material& m = g.materials[0];
+  EXPECT_FLOAT_EQ(m.specular, 0.5f);
+  EXPECT_EQ(m.specularColor, vec3(1.0f, 0.5f, 0.25f));
   EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
+  ASSERT_GE(m.specularTexture, 0);
+  const TextureImage& weight = g.images[size_t(g.textures[size_t(m.specularTexture)].imageIndex)];
+  EXPECT_EQ(weight.channels, 1) << "the alpha channel alone";
+  EXPECT_NEAR(textureTexel(weight, 0, 0, 0).x, 128.0f / 255.0f, 1e-6f);
+  ASSERT_GE(m.specularColorTexture, 0);
+  const TextureImage& colour =
+      g.images[size_t(g.textures[size_t(m.specularColorTexture)].imageIndex)];
+  EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
+  EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
   const std::string all = allWarnings(g);
-  EXPECT_NE(all.find("materials[0]: specularTexture is not read (the factor is)"),
-            std::string::npos)
-      << all;
+  EXPECT_EQ(all.find("is not read"), std::string::npos) << all;
   EXPECT_EQ(all.find("KHR_materials_specular is not supported"), std::string::npos) << all;
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularTexture"] = {{"texCoord", 0}};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("reference.gltf", j)); },
+      {"materials[0].extensions.KHR_materials_specular.specularTexture", "with an index"});
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularTexture"] = {{"index", 0}};
   j["materials"][0]["extensions"]["KHR_materials_specular"]["specularColorFactor"] = {1.0, -1.0,
                                                                                       0.0};
   expectSceneError(
@@ -581,12 +599,24 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   j["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {
       {"clearcoatFactor", 0.8},
       {"clearcoatRoughnessFactor", 0.2},
+      {"clearcoatTexture", {{"index", 0}}},
+      {"clearcoatRoughnessTexture", {{"index", 0}}},
       {"clearcoatNormalTexture", {{"index", 0}}}};
+  // The weight in red, the roughness in green: linear data.
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
+  j["textures"] = {{{"source", 0}}};
   j["extensionsUsed"].push_back("KHR_materials_clearcoat");
   const GltfData g = loadGltf(writeGltf("coat.gltf", j));
-  EXPECT_FLOAT_EQ(g.materials[1].clearcoat, 0.8f);
-  EXPECT_FLOAT_EQ(g.materials[1].clearcoatRoughness, 0.2f);
+  const Material& m = g.materials[1];
+  EXPECT_FLOAT_EQ(m.clearcoat, 0.8f);
+  EXPECT_FLOAT_EQ(m.clearcoatRoughness, 0.2f);
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
+  ASSERT_GE(m.clearcoatTexture, 0);
+  EXPECT_EQ(m.clearcoatRoughnessTexture, m.clearcoatTexture) << "one image read one way";
+  const TextureImage& coat = g.images[size_t(g.textures[size_t(m.clearcoatTexture)].imageIndex)];
+  EXPECT_EQ(coat.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(coat, 0, 0, 0).x, 0.2f, 1e-6f);
+  EXPECT_NEAR(textureTexel(coat, 0, 0, 0).y, 0.4f, 1e-6f);
   const std::string all = allWarnings(g);
   EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;

@@ -92,7 +92,7 @@ TEST(EnvironmentLighting, WhiteFurnaceUnderAConstantMap) {
 // constant map of radiance 1, seen at `degrees` from its normal, direct light only: the mean
 // radiance, which is the layer's directional albedo there.
 Stats glossyBlackPlane(float degrees, float ior, float specular = 1.0f,
-                       const std::function<void(Material&)>& change = nullptr) {
+                       const std::function<void(Material&, Scene&)>& change = nullptr) {
   const float a = degrees * float(kPiD) / 180.0f;
   Scene scene = sceneFrom(R"({
     "render": {"width": 8, "height": 8, "max_depth": 1},
@@ -103,7 +103,7 @@ Stats glossyBlackPlane(float degrees, float ior, float specular = 1.0f,
                           std::to_string(ior) + R"(}},
     "objects": [{"shape": "rectangle", "size": [100, 100], "material": "ground"}]})");
   scene.materials[0].specular = specular;
-  if (change) change(scene.materials[0]);
+  if (change) change(scene.materials[0], scene);
   setEnvironment(scene, Image(8, 4, vec3(1.0f)));
   return pixelStats(test::renderScene(std::move(scene), 256, SamplerKind::Independent, kSeed));
 }
@@ -130,7 +130,7 @@ TEST(EnvironmentLighting, AClearCoatReflectsItsFresnelShareOverTheMaterial) {
   // uniform sky straight on at full weight, 2 % at half, more towards grazing; a rough coat
   // reflects as much.
   auto coated = [](float degrees, float weight, float roughness) {
-    return glossyBlackPlane(degrees, 1.5f, 0.0f, [&](Material& m) {
+    return glossyBlackPlane(degrees, 1.5f, 0.0f, [&](Material& m, Scene&) {
       m.clearcoat = weight;
       m.clearcoatRoughness = roughness;
     });
@@ -144,13 +144,35 @@ TEST(EnvironmentLighting, AClearCoatReflectsItsFresnelShareOverTheMaterial) {
   EXPECT_NEAR(rough.mean, 0.04, std::max(4 * rough.standardError, 4e-3));
   // Over a white diffuse base under the same sky: the coat takes its share from the base and
   // gives it back as reflection, so nearly all the light still returns.
-  const Stats white = glossyBlackPlane(0.0f, 1.5f, 0.0f, [](Material& m) {
+  const Stats white = glossyBlackPlane(0.0f, 1.5f, 0.0f, [](Material& m, Scene&) {
     m.albedo = vec3(1.0f);
     m.clearcoat = 1.0f;
     m.clearcoatRoughness = 0.1f;
   });
   EXPECT_GT(white.mean, 0.95 - 4 * white.standardError);
   EXPECT_LT(white.mean, 1.0 + 4 * white.standardError);
+}
+
+TEST(EnvironmentLighting, TexturesScaleTheSpecularLayerAndTheCoat) {
+  // A uniform texture of 0.5 halves what its factor gives: the specular layer's weight or tint
+  // (2 % of the sky straight on instead of 4 %), and the coat's weight.
+  const auto halvedBy = [](int Material::*slot, float specular) {
+    return glossyBlackPlane(0.0f, 1.5f, specular, [&](Material& m, Scene& scene) {
+      scene.images.push_back(makeTextureImage(Image(1, 1, vec3(0.5f))));
+      Texture t;
+      t.kind = Texture::Kind::Image;
+      t.imageIndex = int(scene.images.size()) - 1;
+      scene.textures.push_back(t);
+      m.*slot = int(scene.textures.size()) - 1;
+      if (slot == &Material::clearcoatTexture) m.clearcoat = 1.0f;
+    });
+  };
+  for (const auto& [slot, specular] : {std::pair{&Material::specularTexture, 1.0f},
+                                       std::pair{&Material::specularColorTexture, 1.0f},
+                                       std::pair{&Material::clearcoatTexture, 0.0f}}) {
+    const Stats half = halvedBy(slot, specular);
+    EXPECT_NEAR(half.mean, 0.02, std::max(4 * half.standardError, 1e-3));
+  }
 }
 
 TEST(EnvironmentLighting, PbrBaseUnderAConstantMapLosesNoMoreThanItsFresnelShare) {
