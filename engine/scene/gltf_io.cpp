@@ -94,7 +94,7 @@ class Converter {
           fail(path_, where + ".target.node",
                "node " + std::to_string(channel.target_node) + " does not exist");
         if (channel.target_path == "weights") {
-          const size_t targets = morphTargetCount(channel.target_node);
+          const size_t targets = morphTargetCount(model_, channel.target_node);
           if (targets == 0) {
             warn(where + ": animates the weights of a node without morph targets");
             continue;
@@ -174,7 +174,7 @@ class Converter {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
            e == "KHR_materials_specular" || e == "KHR_materials_clearcoat" ||
            e == "KHR_materials_ior" || e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
-           e == "KHR_mesh_quantization" || e == kWebpExtension || isMeshCompression(e);
+           e == "KHR_mesh_quantization" || e == "EXT_mesh_gpu_instancing" || e == kWebpExtension || isMeshCompression(e);
   }
 
   void warn(const std::string& message) {
@@ -369,42 +369,19 @@ class Converter {
 
   Samples localSamples(const tinygltf::Node& node, size_t index) const {
     if (tracks_.empty() || tracks_[index].empty()) return {localTransform(path_, node, index)};
-    if (!animating_) return {animatedLocal(path_, node, index, tracks_[index], out_.frameTime)};
-    Samples samples(kSamples);
-    for (int j = 0; j < kSamples; ++j)
-      samples[size_t(j)] =
-          animatedLocal(path_, node, index, tracks_[index],
-                        out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
+    Samples samples;
+    for (double t : sampleTimes())
+      samples.push_back(animatedLocal(path_, node, index, tracks_[index], t));
     return samples;
   }
 
-  // The morph targets of the mesh of node `index` (its first primitive's; 0 without a mesh).
-  size_t morphTargetCount(int index) const {
-    const int mesh = model_.nodes[size_t(index)].mesh;
-    if (mesh < 0 || size_t(mesh) >= model_.meshes.size()) return 0;
-    const auto& primitives = model_.meshes[size_t(mesh)].primitives;
-    return primitives.empty() ? 0 : primitives.front().targets.size();
-  }
-
-  // A node's morph weights: the node's, else its mesh's; over the shutter as the transforms
-  // are sampled when an animation drives them. Empty: none.
-  std::vector<std::vector<float>> morphWeights(const tinygltf::Node& node, size_t index) const {
-    if (size_t(node.mesh) >= model_.meshes.size()) return {};  // addMesh says so
-    const auto& track = weightTracks_[index];
-    if (track) {
-      if (!animating_) return {track->at(out_.frameTime)};
-      std::vector<std::vector<float>> samples(kSamples);
-      for (int j = 0; j < kSamples; ++j)
-        samples[size_t(j)] =
-            track->at(out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1));
-      return samples;
-    }
-    const std::vector<double>& fixed =
-        node.weights.empty() ? model_.meshes[size_t(node.mesh)].weights : node.weights;
-    if (fixed.empty()) return {};
-    std::vector<float> weights;
-    for (double w : fixed) weights.push_back(std::isfinite(w) ? float(w) : 0.0f);
-    return {weights};
+  // When the shutter's samples are taken: at the frame time, or over the shutter when animating.
+  std::vector<double> sampleTimes() const {
+    if (!animating_) return {out_.frameTime};
+    std::vector<double> times(kSamples);
+    for (int j = 0; j < kSamples; ++j)
+      times[size_t(j)] = out_.frameTime + out_.shutterSeconds * double(j) / double(kSamples - 1);
+    return times;
   }
 
   // A node's world transform samples found up its chain of parents (a skin's joints: they need
@@ -456,9 +433,18 @@ class Converter {
       const gltf::SkinPose pose = poseSkin(
           path_, model_, node.skin, [&](int n) -> const Samples& { return worldOf(n); },
           where + ".skin");
-      addMesh(node.mesh, world, where, {&pose, morphWeights(node, size_t(index))});
+      addMesh(node.mesh, world, where,
+              {&pose, morphWeights(model_, node, weightTracks_[size_t(index)], sampleTimes())});
     } else if (node.mesh >= 0) {
-      addMesh(node.mesh, world, where, {nullptr, morphWeights(node, size_t(index))});
+      const Deform morph{nullptr,
+                         morphWeights(model_, node, weightTracks_[size_t(index)], sampleTimes())};
+      const std::vector<mat4> instances = readInstances(path_, model_, node, where);
+      if (instances.empty()) addMesh(node.mesh, world, where, morph);
+      for (const mat4& instance : instances) {  // EXT_mesh_gpu_instancing: before the node's
+        Samples placed = world;
+        for (mat4& m : placed) m = m * instance;
+        addMesh(node.mesh, placed, where, morph);
+      }
     }
     // Cameras and lights are placed where they are when the shutter opens.
     if (node.camera >= 0) cameraNodes_.push_back({index, world.front()});

@@ -83,6 +83,31 @@ int weightSegments(const std::vector<std::vector<float>>& samples) {
   return last;
 }
 
+size_t morphTargetCount(const tinygltf::Model& model, int index) {
+  const int mesh = model.nodes[size_t(index)].mesh;
+  if (mesh < 0 || size_t(mesh) >= model.meshes.size()) return 0;
+  const auto& primitives = model.meshes[size_t(mesh)].primitives;
+  return primitives.empty() ? 0 : primitives.front().targets.size();
+}
+
+std::vector<std::vector<float>> morphWeights(const tinygltf::Model& model,
+                                             const tinygltf::Node& node,
+                                             const std::optional<WeightsTrack>& track,
+                                             const std::vector<double>& times) {
+  if (node.mesh < 0 || size_t(node.mesh) >= model.meshes.size()) return {};
+  std::vector<std::vector<float>> samples;
+  if (track) {
+    for (double t : times) samples.push_back(track->at(t));
+    return samples;
+  }
+  const std::vector<double>& fixed =
+      node.weights.empty() ? model.meshes[size_t(node.mesh)].weights : node.weights;
+  if (fixed.empty()) return {};
+  std::vector<float> weights;
+  for (double w : fixed) weights.push_back(std::isfinite(w) ? float(w) : 0.0f);
+  return {weights};
+}
+
 MorphTargets::MorphTargets(const std::string& path, const tinygltf::Model& model,
                            const tinygltf::Primitive& primitive, size_t vertexCount,
                            const std::string& where) {

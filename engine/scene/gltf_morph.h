@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,16 @@ WeightsTrack readWeightsTrack(const std::string& path, const tinygltf::Model& mo
 // The fewest segments (1, 2, 4, ... 128 of equal time) whose linear interpolation of the
 // weights (kMotionSamples sets evenly over the shutter) stays within 0.001 of every sample.
 int weightSegments(const std::vector<std::vector<float>>& samples);
+
+// The morph targets of node `index`'s mesh (its first primitive's; 0 without a mesh).
+size_t morphTargetCount(const tinygltf::Model& model, int index);
+
+// A node's morph weights at each of `times`: its animation's (`track`), else the node's, else
+// its mesh's (then one set). Empty: none.
+std::vector<std::vector<float>> morphWeights(const tinygltf::Model& model,
+                                             const tinygltf::Node& node,
+                                             const std::optional<WeightsTrack>& track,
+                                             const std::vector<double>& times);
 
 // A primitive's morph targets: per target, the displacement of each vertex's position, normal
 // and tangent (each may be absent).

@@ -4,9 +4,12 @@
 #include "scene/gltf_accessors.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace penumbra::gltf {
 
@@ -55,6 +58,56 @@ PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& 
   if (light.range > 0 && warning)
     *warning = lightWhere + ": range is ignored (light falls off with the square of the distance)";
   return out;
+}
+
+std::vector<glm::mat4> readInstances(const std::string& path, const tinygltf::Model& model,
+                                     const tinygltf::Node& node, const std::string& where) {
+  const auto it = node.extensions.find("EXT_mesh_gpu_instancing");
+  if (it == node.extensions.end() || !it->second.IsObject() || !it->second.Has("attributes"))
+    return {};
+  const std::string field = where + ".extensions.EXT_mesh_gpu_instancing.attributes";
+  const tinygltf::Value& attributes = it->second.Get("attributes");
+  if (!attributes.IsObject()) fail(path, field, "must be an object");
+  static const char* const kNames[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+  std::optional<AccessorReader> readers[3];
+  size_t count = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!attributes.Has(kNames[a])) continue;
+    const tinygltf::Value& index = attributes.Get(kNames[a]);
+    if (!index.IsInt()) fail(path, field + "." + kNames[a], "must be an accessor index");
+    readers[a].emplace(path, model, index.GetNumberAsInt(), field + "." + kNames[a]);
+    const int components = a == 1 ? 4 : 3;
+    if (readers[a]->components() != components)
+      fail(path, readers[a]->where(), std::string("must be VEC") + char('0' + components));
+    if (count != 0 && readers[a]->count() != count)
+      fail(path, field, "the attributes must have as many instances each");
+    count = readers[a]->count();
+  }
+  // Each instance copies the mesh: as many as the node instances a file may have.
+  constexpr size_t kMaxInstances = size_t(1) << 20;
+  if (count > kMaxInstances)
+    fail(path, field, "more than " + std::to_string(kMaxInstances) + " instances");
+  std::vector<glm::mat4> instances(count, glm::mat4(1.0f));
+  for (size_t i = 0; i < count; ++i) {
+    const auto get = [&](int a, int c) { return readers[a]->get(i, c); };
+    glm::dmat4 m(1.0);
+    if (readers[0]) m = glm::translate(m, glm::dvec3(get(0, 0), get(0, 1), get(0, 2)));
+    if (readers[1]) {
+      const glm::dquat q(get(1, 3), get(1, 0), get(1, 1), get(1, 2));
+      const double length = glm::length(q);
+      if (!(length > 0.0) || !std::isfinite(length))
+        fail(path, readers[1]->where(),
+             "instance " + std::to_string(i) + "'s rotation is not a quaternion");
+      m = m * glm::mat4_cast(q / length);
+    }
+    if (readers[2]) m = glm::scale(m, glm::dvec3(get(2, 0), get(2, 1), get(2, 2)));
+    instances[i] = glm::mat4(m);
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(instances[i][c][r]))
+          fail(path, field, "instance " + std::to_string(i) + "'s transform is not finite");
+  }
+  return instances;
 }
 
 bool pickCamera(const std::string& path, const tinygltf::Model& model,

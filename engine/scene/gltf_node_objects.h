@@ -1,5 +1,6 @@
 // What a glTF node holds besides a mesh, for gltf_io.cpp: its KHR_lights_punctual light and its
-// camera, placed by the node's world transform. Internal to the glTF reader;
+// camera, placed by the node's world transform, and the instances of its mesh that
+// EXT_mesh_gpu_instancing lists. Internal to the glTF reader;
 // docs/scene-format.md says what it does.
 #pragma once
 
@@ -22,6 +23,13 @@ namespace penumbra::gltf {
 PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& model,
                                 const tinygltf::Node& node, const glm::mat4& world,
                                 const std::string& where, std::string* warning);
+
+// The transforms of a node's EXT_mesh_gpu_instancing instances (T·R·S of each instance's
+// TRANSLATION, ROTATION and SCALE, those it lacks the identity), applied before the node's own
+// transform; empty when the node has none. Throws SceneError naming the extension's field for
+// attributes that are not VEC3 / VEC4 or disagree on the count.
+std::vector<glm::mat4> readInstances(const std::string& path, const tinygltf::Model& model,
+                                     const tinygltf::Node& node, const std::string& where);
 
 // The perspective camera named `name` (the first when `name` is empty) among `cameraNodes`
 // (a node and its world transform), set in `out`; false when there is none. Other camera
