@@ -16,6 +16,24 @@ float unitFactor(const tinygltf::Value& extension, const char* key, float fallba
   return std::isfinite(v) ? std::clamp(float(v), 0.0f, 1.0f) : fallback;
 }
 
+// The extension's colour `key` (three finite numbers of at least 0, and at most `most`) into
+// `out`; left as it is when absent. Throws SceneError naming `field`.key otherwise.
+void readColor(const std::string& path, const tinygltf::Value& extension, const char* key,
+               const std::string& field, float most, vec3& out) {
+  if (!extension.Has(key)) return;
+  const tinygltf::Value& c = extension.Get(key);
+  const std::string where = field + "." + key;
+  if (!c.IsArray() || c.ArrayLen() != 3) fail(path, where, "must be an array of three numbers");
+  for (int k = 0; k < 3; ++k) {
+    const double v = c.Get(k).IsNumber() ? c.Get(k).GetNumberAsDouble() : -1.0;
+    if (!(v >= 0.0 && v <= most && std::isfinite(v)))
+      fail(path, where,
+           "must hold three finite numbers of at least 0" +
+               (std::isfinite(most) ? " and at most " + number(most) : std::string()));
+    out[k] = float(v);
+  }
+}
+
 // The extension's texture reference `key` converted by `texture`; -1 when absent.
 int layerTexture(const std::string& path, const tinygltf::Value& extension, const char* key,
                  const std::string& where, Texels texels, const LayerTexture& texture) {
@@ -44,18 +62,8 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
       it != m.extensions.end() && it->second.IsObject()) {
     const tinygltf::Value& e = it->second;
     out.specular = unitFactor(e, "specularFactor", 1.0f);
-    if (e.Has("specularColorFactor")) {
-      const std::string field = where + ".extensions.KHR_materials_specular.specularColorFactor";
-      const tinygltf::Value& c = e.Get("specularColorFactor");
-      if (!c.IsArray() || c.ArrayLen() != 3) fail(path, field, "must be an array of three numbers");
-      for (int k = 0; k < 3; ++k) {
-        const double v = c.Get(k).IsNumber() ? c.Get(k).GetNumberAsDouble() : -1.0;
-        if (!(v >= 0.0 && std::isfinite(v)))
-          fail(path, field, "must hold three finite numbers of at least 0");
-        out.specularColor[k] = float(v);
-      }
-    }
     const std::string field = where + ".extensions.KHR_materials_specular";
+    readColor(path, e, "specularColorFactor", field, INFINITY, out.specularColor);
     // The weight is in the alpha channel; an image without one is 1 (the factor alone).
     out.specularTexture = layerTexture(path, e, "specularTexture", field, Texels::Alpha, texture);
     out.specularColorTexture =
@@ -73,6 +81,25 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
     if (e.Has("clearcoatNormalTexture"))
       warnings.push_back(
           where + ": clearcoatNormalTexture is not read (the coat takes the surface's normal)");
+  }
+  // A volume (thicknessFactor > 0; 0 is a thin wall, which light crosses unchanged) absorbs
+  // what travels inside it. Its thickness is a rasteriser's stand-in for the geometry, which a
+  // path tracer has: not needed.
+  if (const auto it = m.extensions.find("KHR_materials_volume");
+      it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& e = it->second;
+    const std::string field = where + ".extensions.KHR_materials_volume";
+    const bool thick = e.Has("thicknessFactor") && e.Get("thicknessFactor").IsNumber() &&
+                       e.Get("thicknessFactor").GetNumberAsDouble() > 0;
+    if (thick) {
+      readColor(path, e, "attenuationColor", field, 1.0f, out.attenuationColor);
+      if (e.Has("attenuationDistance")) {
+        const tinygltf::Value& d = e.Get("attenuationDistance");
+        const double v = d.IsNumber() ? d.GetNumberAsDouble() : -1.0;
+        if (!(v > 0)) fail(path, field + ".attenuationDistance", "must be a number above 0");
+        out.attenuationDistance = float(v);
+      }
+    }
   }
   return warnings;
 }

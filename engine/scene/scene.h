@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -98,18 +99,28 @@ struct Material {
   float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
   int clearcoatTexture = -1;           // weight x red (linear data)
   int clearcoatRoughnessTexture = -1;  // roughness x green (linear data)
-  int metallicRoughnessTexture = -1;   // Pbr: roughness x green, metallic x blue (linear data)
-  int emissionTexture = -1;            // multiplies `emission`; -1: uniform
-  int normalTexture = -1;              // tangent-space normal map (linear, +y along +v); -1: none
-  float normalScale = 1.0f;            // scales the map's x and y
-  int alphaTexture = -1;               // cut-out: coverage in the texture's first channel; -1: none
-  float alpha = 1.0f;                  // coverage factor (times the texture's)
-  float alphaCutoff = -1.0f;           // coverage below it is a hole; negative: opaque
+  // Pbr and Dielectric: glTF's KHR_materials_volume: light travelling inside the (closed) object
+  // keeps attenuationColor^(distance / attenuationDistance) of itself; an infinite distance
+  // absorbs nothing.
+  vec3 attenuationColor = vec3(1.0f);
+  float attenuationDistance = std::numeric_limits<float>::infinity();
+  int metallicRoughnessTexture = -1;  // Pbr: roughness x green, metallic x blue (linear data)
+  int emissionTexture = -1;           // multiplies `emission`; -1: uniform
+  int normalTexture = -1;             // tangent-space normal map (linear, +y along +v); -1: none
+  float normalScale = 1.0f;           // scales the map's x and y
+  int alphaTexture = -1;              // cut-out: coverage in the texture's first channel; -1: none
+  float alpha = 1.0f;                 // coverage factor (times the texture's)
+  float alphaCutoff = -1.0f;          // coverage below it is a hole; negative: opaque
   // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
   // per ray (stochastic transparency), instead of a cutoff.
   bool alphaBlend = false;
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   bool hasCutouts() const { return alphaCutoff >= 0.0f || alphaBlend; }
+  bool absorbs() const {
+    return attenuationDistance > 0 &&
+           attenuationDistance < std::numeric_limits<float>::infinity() &&
+           attenuationColor != vec3(1.0f);
+  }
   // Every texture id of the material (-1 where it has none).
   std::array<int*, 9> textureIds() {
     return {&albedoTexture,

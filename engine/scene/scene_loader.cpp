@@ -228,7 +228,7 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
                       const std::map<std::string, int>& textures) {
   r.checkKeys(node, f,
               {"type", "albedo", "color", "roughness", "ior", "emission", "radiance", "metallic",
-               "transmission"});
+               "transmission", "attenuation_color", "attenuation_distance"});
   if (!node.contains("type"))
     r.fail(f, "missing field 'type' (diffuse, conductor, mirror, dielectric, emissive, pbr)");
   const std::string type = r.string(node["type"], f + ".type");
@@ -247,6 +247,14 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
       m.albedo = r.color(node, f, "albedo", m.albedo);
     }
   };
+  // What light inside a glass keeps: attenuation_color after attenuation_distance.
+  const auto volume = [&](Material& m) {
+    m.attenuationColor = r.color(node, f, "attenuation_color", vec3(1.0f));
+    if (glm::any(glm::greaterThan(m.attenuationColor, vec3(1.0f))))
+      r.fail(f + ".attenuation_color", "expected values in [0, 1]");
+    if (node.contains("attenuation_distance"))
+      m.attenuationDistance = r.positive(node, f, "attenuation_distance", 1.0f);
+  };
   Material m;
   if (type == "diffuse") {
     m.type = Material::Type::Diffuse;
@@ -259,6 +267,7 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
     m.roughness = std::max(unit("roughness", 0.5f), 0.02f);
     m.transmission = unit("transmission", 0.0f);
     m.ior = r.positive(node, f, "ior", 1.5f);
+    volume(m);
   } else if (type == "conductor" || type == "mirror") {
     m.type = type == "mirror" ? Material::Type::Mirror : Material::Type::Conductor;
     m.albedo = r.color(node, f, "color", vec3(0.9f));
@@ -268,6 +277,7 @@ Material readMaterial(const Reader& r, const Json& node, const std::string& f,
   } else if (type == "dielectric") {
     m.type = Material::Type::Dielectric;
     m.ior = r.positive(node, f, "ior", 1.5f);
+    volume(m);
   } else if (type == "emissive") {
     m.type = Material::Type::Diffuse;
     m.albedo = vec3(0.0f);

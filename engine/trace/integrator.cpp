@@ -197,6 +197,21 @@ struct PendingShadow {
 };
 }  // namespace
 
+namespace {
+// Russian roulette once the path has a few vertices (before them its dimension is skipped):
+// false ends the path; a survivor's throughput is divided by its chance.
+bool survivesRoulette(int depth, vec3& throughput, PixelSampler& dimensions) {
+  if (depth < 2) {
+    dimensions.skip(1);
+    return true;
+  }
+  const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
+  if (dimensions.next1D() >= survive) return false;
+  throughput /= survive;
+  return true;
+}
+}  // namespace
+
 SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
                      const RayDifferentials* differentials, const CameraFrame* approximateFrom) {
   const Mesh& mesh = scene.meshes[hit.meshId];
@@ -309,6 +324,9 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
                   depth > 0 && footprints ? &prepared.camera : nullptr);
     const Material& material = scene.materials[surface.materialId];
     const vec3 wo = -ray.direction;
+    // A ray that reached the back of an absorbing object's surface travelled inside it.
+    if (material.absorbs() && glm::dot(wo, surface.geometricNormal) < 0)
+      throughput *= glm::pow(material.attenuationColor, vec3(hit.t / material.attenuationDistance));
 
     // Emission, on the counter-clockwise side only, weighted against light sampling.
     if (material.isEmissive() && glm::dot(wo, surface.geometricNormal) > 0) {
@@ -382,14 +400,7 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
     previousPoint = surface.point;
     ray = Ray{offsetOrigin(surface.point, surface.geometricNormal, bs.wi), bs.wi, ray.time};
 
-    // Russian roulette once the path has a few vertices.
-    if (depth >= 2) {
-      const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
-      if (dimensions.next1D() >= survive) break;
-      throughput /= survive;
-    } else {
-      dimensions.skip(1);
-    }
+    if (!survivesRoulette(depth, throughput, dimensions)) break;
   }
   traceShadow();  // the last vertex's, when the path ended there
   return radiance;

@@ -622,6 +622,31 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }
 
+TEST(Gltf, VolumeExtensionGivesThickMaterialsTheirAttenuation) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][3]["extensions"]["KHR_materials_volume"] = {{"thicknessFactor", 0.2},
+                                                             {"attenuationDistance", 0.5},
+                                                             {"attenuationColor", {0.9, 0.5, 0.1}}};
+  // A thin wall (thickness 0, the default) has no volume.
+  j["materials"][0]["extensions"]["KHR_materials_volume"] = {{"attenuationDistance", 0.5},
+                                                             {"attenuationColor", {0.5, 0.5, 0.5}}};
+  j["extensionsUsed"].push_back("KHR_materials_volume");
+  const GltfData g = loadGltf(writeGltf("volume.gltf", j));
+  EXPECT_TRUE(g.materials[3].absorbs());
+  EXPECT_EQ(g.materials[3].attenuationColor, vec3(0.9f, 0.5f, 0.1f));
+  EXPECT_FLOAT_EQ(g.materials[3].attenuationDistance, 0.5f);
+  EXPECT_FALSE(g.materials[0].absorbs());
+  EXPECT_EQ(allWarnings(g).find("KHR_materials_volume"), std::string::npos) << allWarnings(g);
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationColor"] = {2, 0, 0};
+  expectSceneError([&] { loadGltf(writeGltf("colour.gltf", j)); },
+                   {"materials[3].extensions.KHR_materials_volume.attenuationColor", "at most 1"});
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationColor"] = {1, 1, 1};
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = 0;
+  expectSceneError([&] { loadGltf(writeGltf("distance.gltf", j)); },
+                   {"KHR_materials_volume.attenuationDistance", "above 0"});
+}
+
 TEST(Gltf, JsonScenesIncludeGltfFilesWithATransformAndAMaterial) {
   const std::string buffer = quadBuffer();
   writeGltf("include/quad.gltf", quadGltf(dataUri(buffer), buffer.size()));

@@ -76,6 +76,23 @@ TEST(Integrator, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
   EXPECT_NEAR(m.mean, 0.8, std::max(4 * m.standardError, 2e-3));
 }
 
+TEST(Integrator, AbsorbingGlassKeepsItsAttenuationColourPerAttenuationDistance) {
+  // Index 1 bends and reflects nothing: a ray through the middle of a unit sphere travels 2
+  // inside and keeps 0.5^(2 / 1) = 25 % of the white sky behind (the view, 0.5 degrees wide,
+  // sees chords of 1.9995 and more). As glass and as glTF's transmission alike; a thin wall
+  // (no distance) absorbs nothing.
+  const std::string volume = R"("ior": 1, "attenuation_color": 0.5, "attenuation_distance": 1)";
+  for (const std::string& material :
+       {R"({"type": "dielectric", )" + volume + "}",
+        R"({"type": "pbr", "albedo": 1, "transmission": 1, )" + volume + "}"}) {
+    const ImageMean m = imageMean(sphereUnderWhiteSky(material, 64, 0.5));
+    EXPECT_NEAR(m.mean, 0.25, 1e-3) << material;
+  }
+  const ImageMean clear = imageMean(sphereUnderWhiteSky(
+      R"({"type": "dielectric", "ior": 1, "attenuation_color": 0.5})", 16, 0.5));
+  EXPECT_NEAR(clear.mean, 1.0, 1e-4);
+}
+
 TEST(Integrator, GlassSphereUnderUniformSkyIsInvisible) {
   // A smooth dielectric only redirects light: each reflection has weight 1, and the
   // 1/eta^2 radiance scaling on entering is undone by the eta^2 on leaving. So in a
