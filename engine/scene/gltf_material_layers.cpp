@@ -58,6 +58,7 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
                                             const std::string& where, Material& out,
                                             const LayerTexture& texture) {
   std::vector<std::string> warnings;
+  out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
   if (const auto it = m.extensions.find("KHR_materials_specular");
       it != m.extensions.end() && it->second.IsObject()) {
     const tinygltf::Value& e = it->second;

@@ -1,7 +1,7 @@
 // The layers glTF's material extensions put on the metallic-roughness model, for gltf_io.cpp:
 // KHR_materials_specular (the dielectric base's specular layer), KHR_materials_clearcoat (a
-// clear coat over the whole material) and KHR_materials_volume (absorption inside it).
-// Internal to the glTF reader.
+// clear coat over the whole material) and KHR_materials_volume (absorption inside it); and
+// KHR_materials_unlit, which puts them all aside. Internal to the glTF reader.
 #pragma once
 
 #include "scene/scene.h"
@@ -23,10 +23,10 @@ using LayerTexture =
     std::function<int(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
                       const std::string& where, Texels texels)>;
 
-// Reads the extensions' factors and textures into `out` (Material::specular, specularColor,
-// clearcoat, clearcoatRoughness and their textures, converted by `texture`; attenuationColor
-// and attenuationDistance); returns a warning for each texture that is not read (the coat's
-// normal map). Throws SceneError naming the file and the field for a malformed colour,
+// Reads the extensions into `out` (Material::specular, specularColor, clearcoat,
+// clearcoatRoughness and their textures, converted by `texture`; attenuationColor and
+// attenuationDistance; unlit); returns a warning for each texture that is not read (the
+// coat's normal map). Throws SceneError naming the file and the field for a malformed colour,
 // attenuation distance or texture reference.
 std::vector<std::string> readMaterialLayers(const std::string& path, const tinygltf::Material& m,
                                             const std::string& where, Material& out,

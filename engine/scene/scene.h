@@ -111,6 +111,10 @@ struct Material {
   int alphaTexture = -1;              // cut-out: coverage in the texture's first channel; -1: none
   float alpha = 1.0f;                 // coverage factor (times the texture's)
   float alphaCutoff = -1.0f;          // coverage below it is a hole; negative: opaque
+  // glTF's KHR_materials_unlit: every ray that meets it sees its base colour (times its
+  // texture and vertex colour), and it reflects nothing; it lights nothing by next-event
+  // estimation either.
+  bool unlit = false;
   // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
   // per ray (stochastic transparency), instead of a cutoff.
   bool alphaBlend = false;

@@ -198,6 +198,21 @@ struct PendingShadow {
 }  // namespace
 
 namespace {
+// Along the camera's specular chain, its length so far; at its first non-specular vertex the
+// path's features there (throughput times albedo, normal, the chain's length), the chain
+// ended, and true.
+bool recordCameraChain(PathFeatures* features, bool& cameraChain, float& chainLength, float t,
+                       const SurfaceBsdf& bsdf, vec3 throughput, const SurfaceHit& surface) {
+  if (!features || !cameraChain) return false;
+  chainLength += t;
+  if (bsdf.isSpecular()) return false;
+  features->albedo = throughput * bsdf.color;
+  features->normal = surface.shadingNormal;
+  features->depth = chainLength;
+  cameraChain = false;
+  return true;
+}
+
 // Russian roulette once the path has a few vertices (before them its dimension is skipped):
 // false ends the path; a survivor's throughput is divided by its chance.
 bool survivesRoulette(int depth, vec3& throughput, PixelSampler& dimensions) {
@@ -340,20 +355,19 @@ vec3 traceRadiance(const PreparedScene& prepared, const CameraSample& sample,
       radiance += throughput * emitted * weight;
       if (features && cameraChain) features->emission += throughput * emitted * weight;
     }
+    // Unlit (glTF's KHR_materials_unlit): its colour to every ray, and nothing reflected.
+    if (material.unlit) {
+      const vec3 shown = throughput * makeBsdf(scene, surface).color;
+      radiance += shown;
+      if (features && cameraChain) features->emission += shown;
+      break;
+    }
     if (depth >= maxDepth) break;
 
     const SurfaceBsdf bsdf = makeBsdf(scene, surface);
-    bool recordLight = false;  // the first non-specular vertex: its light sample is a feature
-    if (features && cameraChain) {
-      chainLength += hit.t;
-      if (!bsdf.isSpecular()) {
-        recordLight = true;
-        features->albedo = throughput * bsdf.color;
-        features->normal = surface.shadingNormal;
-        features->depth = chainLength;
-        cameraChain = false;
-      }
-    }
+    // The first non-specular vertex: its light sample is a feature too.
+    const bool recordLight =
+        recordCameraChain(features, cameraChain, chainLength, hit.t, bsdf, throughput, surface);
 
     // Every bounce owns five dimensions (above), drawn only when used and skipped
     // otherwise, so each dimension means the same thing in every path of the pixel. The light's

@@ -622,7 +622,7 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }
 
-TEST(Gltf, VolumeExtensionGivesThickMaterialsTheirAttenuation) {
+TEST(Gltf, VolumeAndUnlitExtensionsAreRead) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
   j["materials"][3]["extensions"]["KHR_materials_volume"] = {{"thicknessFactor", 0.2},
@@ -637,7 +637,14 @@ TEST(Gltf, VolumeExtensionGivesThickMaterialsTheirAttenuation) {
   EXPECT_EQ(g.materials[3].attenuationColor, vec3(0.9f, 0.5f, 0.1f));
   EXPECT_FLOAT_EQ(g.materials[3].attenuationDistance, 0.5f);
   EXPECT_FALSE(g.materials[0].absorbs());
+  EXPECT_FALSE(g.materials[0].unlit);
   EXPECT_EQ(allWarnings(g).find("KHR_materials_volume"), std::string::npos) << allWarnings(g);
+  j["materials"][1]["extensions"]["KHR_materials_unlit"] = Json::object();
+  j["extensionsUsed"].push_back("KHR_materials_unlit");
+  const GltfData unlit = loadGltf(writeGltf("unlit.gltf", j));
+  EXPECT_TRUE(unlit.materials[1].unlit);
+  EXPECT_EQ(allWarnings(unlit).find("KHR_materials_unlit"), std::string::npos)
+      << allWarnings(unlit);
   j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationColor"] = {2, 0, 0};
   expectSceneError([&] { loadGltf(writeGltf("colour.gltf", j)); },
                    {"materials[3].extensions.KHR_materials_volume.attenuationColor", "at most 1"});

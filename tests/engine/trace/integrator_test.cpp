@@ -411,6 +411,21 @@ Scene quadUnderWhiteSky(float albedo) {
   return scene;
 }
 
+TEST(Integrator, UnlitSurfacesShowTheirColourWhateverLightsThem) {
+  // Under a sky of 3 a diffuse quad returns 3 times its albedo; unlit, its albedo itself (times
+  // its vertex colour), even with no bounce allowed.
+  Scene scene = quadUnderWhiteSky(0.5f);
+  scene.background = vec3(3.0f);
+  scene.materials[0].unlit = true;
+  for (int depth : {0, 5}) {
+    scene.settings.maxDepth = depth;
+    const ImageMean m = imageMean(renderScene(scene, 4));
+    EXPECT_NEAR(m.mean, 0.5, 1e-5) << depth;
+  }
+  scene.meshes[0].colors.assign(scene.meshes[0].vertexCount, vec3(0.5f));
+  EXPECT_NEAR(imageMean(renderScene(scene, 4)).mean, 0.25, 1e-5);
+}
+
 TEST(Integrator, VertexColoursScaleTheBaseColour) {
   // A diffuse quad of albedo 0.8 facing the camera under a uniform white sky reflects its
   // albedo times its colour; the colours vary linearly across it, so the interpolated colour at
