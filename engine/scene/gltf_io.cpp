@@ -560,7 +560,7 @@ class Converter {
     if (skin) weights.emplace(path_, model_, prim, vertexCount, skin->jointCount(), where);
     std::optional<gltf::MorphTargets> morph;
     if (!prim.targets.empty() && !deform.morph.empty())
-      morph.emplace(path_, model_, prim, vertexCount, where);
+      morph.emplace(path_, model_, prim, vertexCount, deform.morph, where);
     // Attribute a (0: position, 1: normal, 2: tangent) of vertex v morphed as at step s.
     const auto morphed = [&](int a, size_t s, size_t v, vec3 value) {
       return morph ? morph->displaced(a, v, value, deform.morph[s]) : value;

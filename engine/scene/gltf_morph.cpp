@@ -110,11 +110,15 @@ std::vector<std::vector<float>> morphWeights(const tinygltf::Model& model,
 
 MorphTargets::MorphTargets(const std::string& path, const tinygltf::Model& model,
                            const tinygltf::Primitive& primitive, size_t vertexCount,
+                           const std::vector<std::vector<float>>& weights,
                            const std::string& where) {
   static const char* const kNames[3] = {"POSITION", "NORMAL", "TANGENT"};
   for (size_t t = 0; t < primitive.targets.size(); ++t) {
     Target target;
-    for (int a = 0; a < 3; ++a) {
+    bool weighted = false;
+    for (const std::vector<float>& step : weights)
+      weighted = weighted || (t < step.size() && step[t] != 0.0f);
+    for (int a = 0; a < 3 && weighted; ++a) {
       const auto it = primitive.targets[t].find(kNames[a]);
       if (it == primitive.targets[t].end()) continue;
       const AccessorReader r(path, model, it->second,

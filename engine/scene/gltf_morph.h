@@ -52,11 +52,13 @@ std::vector<std::vector<float>> morphWeights(const tinygltf::Model& model,
                                              const std::vector<double>& times);
 
 // A primitive's morph targets: per target, the displacement of each vertex's position, normal
-// and tangent (each may be absent).
+// and tangent (each may be absent). Only the targets with a weight in `weights` (per step) are
+// read: a face rig's many shapes mostly rest at 0.
 class MorphTargets {
  public:
   MorphTargets(const std::string& path, const tinygltf::Model& model,
-               const tinygltf::Primitive& primitive, size_t vertexCount, const std::string& where);
+               const tinygltf::Primitive& primitive, size_t vertexCount,
+               const std::vector<std::vector<float>>& weights, const std::string& where);
 
   size_t count() const { return targets_.size(); }
   // `value` of vertex v displaced by the weighted sum of the targets' `attribute` (0: POSITION,

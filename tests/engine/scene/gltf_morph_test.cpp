@@ -94,6 +94,9 @@ TEST(GltfMorph, DamagedTargetsAndWeightsNameTheElement) {
   Json j = morphedQuad(false);
   j["accessors"][j["meshes"][1]["primitives"][0]["targets"][1]["POSITION"].get<size_t>()]["count"] =
       3;
+  // Without a weight, target 1 is not read.
+  EXPECT_EQ(loadGltf(writeGltf("unused.gltf", j)).mesh.vertexCount, 8u);
+  j["nodes"][2]["weights"] = {0, 1};
   expectSceneError([&] { loadGltf(writeGltf("count.gltf", j)); },
                    {"meshes[1].primitives[0].targets[1].POSITION", "expected 4 VEC3"});
   j = morphedQuad(true);
