@@ -135,29 +135,17 @@ mat4 animatedLocal(const std::string& path_, const tinygltf::Node& node, size_t 
   return mat4(m);
 }
 
-// The node's local transform over the shutter.
-
 int motionSegments(const std::vector<glm::mat4>& world, float radius) {
   const auto scaleOf = [](const mat4& m) {
     return std::max({glm::length(vec3(m[0])), glm::length(vec3(m[1])), glm::length(vec3(m[2]))});
   };
   const float tolerance = 1e-3f * std::max(radius * scaleOf(world.front()), 1e-6f);
-  const int last = kMotionSamples - 1;
-  for (int segments = 1; segments < last; segments *= 2) {
-    const int stride = last / segments;
-    float worst = 0;
-    for (int j = 0; j <= last; ++j) {
-      const int s = std::min(j / stride, segments - 1);
-      const float w = float(j - s * stride) / float(stride);
-      const mat4 d = (1 - w) * world[size_t(s * stride)] + w * world[size_t((s + 1) * stride)] -
-                     world[size_t(j)];
-      worst = std::max(worst, radius * std::max({glm::length(vec3(d[0])), glm::length(vec3(d[1])),
-                                                 glm::length(vec3(d[2]))}) +
-                                  glm::length(vec3(d[3])));
-    }
-    if (worst <= tolerance) return segments;
-  }
-  return last;
+  return fewestSegments(kMotionSamples - 1, tolerance, [&](size_t j, size_t a, size_t b, float w) {
+    const mat4 d = (1 - w) * world[a] + w * world[b] - world[j];
+    return radius * std::max({glm::length(vec3(d[0])), glm::length(vec3(d[1])),
+                              glm::length(vec3(d[2]))}) +
+           glm::length(vec3(d[3]));
+  });
 }
 
 }  // namespace penumbra::gltf

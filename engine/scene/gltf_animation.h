@@ -9,6 +9,7 @@
 
 #include <glm/vec4.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,25 @@ glm::mat4 animatedLocal(const std::string& path, const tinygltf::Node& node, siz
 
 // The samples of a transform over the shutter that motion is measured on.
 constexpr int kMotionSamples = 129;
+
+// The fewest segments (1, 2, 4, ... of equal length) into which samples 0 to `last` can be cut
+// so that the linear interpolation between each segment's ends stays within `tolerance` of every
+// sample: `error(j, a, b, w)` is sample j's distance from the mix of samples a and b at weight
+// w (0: a, 1: b). `last` when none fewer does.
+template <typename Error>
+int fewestSegments(int last, float tolerance, Error&& error) {
+  for (int segments = 1; segments < last; segments *= 2) {
+    const int stride = last / segments;
+    float worst = 0;
+    for (int j = 0; j <= last; ++j) {
+      const int s = std::min(j / stride, segments - 1);
+      const float w = float(j - s * stride) / float(stride);
+      worst = std::max(worst, error(size_t(j), size_t(s * stride), size_t((s + 1) * stride), w));
+    }
+    if (worst <= tolerance) return segments;
+  }
+  return last;
+}
 
 // The fewest segments (1, 2, 4, ... 128 of equal time) whose linear interpolation of `world`
 // (kMotionSamples transforms evenly over the shutter) stays within 0.1% of the object's size

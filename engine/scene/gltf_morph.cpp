@@ -67,20 +67,13 @@ WeightsTrack readWeightsTrack(const std::string& path, const tinygltf::Model& mo
 int weightSegments(const std::vector<std::vector<float>>& samples) {
   const int last = int(samples.size()) - 1;
   if (last < 1) return 1;
-  for (int segments = 1; segments < last; segments *= 2) {
-    const int stride = last / segments;
+  return fewestSegments(last, 1e-3f, [&](size_t j, size_t a, size_t b, float w) {
     float worst = 0;
-    for (int j = 0; j <= last; ++j) {
-      const int s = std::min(j / stride, segments - 1);
-      const float w = float(j - s * stride) / float(stride);
-      const std::vector<float>&a = samples[size_t(s * stride)],
-            &b = samples[size_t((s + 1) * stride)];
-      for (size_t i = 0; i < a.size(); ++i)
-        worst = std::max(worst, std::abs((1 - w) * a[i] + w * b[i] - samples[size_t(j)][i]));
-    }
-    if (worst <= 1e-3f) return segments;
-  }
-  return last;
+    for (size_t i = 0; i < samples[j].size(); ++i)
+      worst =
+          std::max(worst, std::abs((1 - w) * samples[a][i] + w * samples[b][i] - samples[j][i]));
+    return worst;
+  });
 }
 
 size_t morphTargetCount(const tinygltf::Model& model, int index) {
