@@ -195,9 +195,7 @@ struct PendingShadow {
     if (record) *record += contribution;
   }
 };
-}  // namespace
 
-namespace {
 // Along the camera's specular chain, its length so far; at its first non-specular vertex the
 // path's features there (throughput times albedo, normal, the chain's length), the chain
 // ended, and true.
