@@ -565,10 +565,20 @@ class Converter {
     const auto morphed = [&](int a, size_t s, size_t v, vec3 value) {
       return morph ? morph->displaced(a, v, value, deform.morph[s]) : value;
     };
-    // Vertex v's transform at step s: the node's, or the blend of its joints'.
-    const auto transform = [&](size_t s, size_t v) {
-      return weights ? weights->matrix(v, skin->steps[s]) : steps[s];
+    // Vertex v's transform at step s: the node's, or the blend of its joints', blended once
+    // per vertex and step for the positions, normals and tangents alike.
+    std::vector<mat4> blended;
+    size_t blendedStep = stepCount;
+    const auto transform = [&](size_t s, size_t v) -> const mat4& {
+      if (!weights) return steps[s];
+      if (blendedStep != s) {
+        blended.resize(vertexCount);
+        for (size_t k = 0; k < vertexCount; ++k) blended[k] = weights->matrix(k, skin->steps[s]);
+        blendedStep = s;
+      }
+      return blended[v];
     };
+    const bool mirrored = glm::determinant(glm::mat3(transform(0, 0))) < 0.0f;
 
     const uint32_t base = target.vertexCount;
     const auto accessorOf = [&](const char* name) {
@@ -634,7 +644,6 @@ class Converter {
     } else {
       materialId = defaultMaterial();
     }
-    const bool mirrored = glm::determinant(glm::mat3(transform(0, 0))) < 0.0f;
     const auto triangle = [&](uint32_t a, uint32_t b, uint32_t c) {
       if (a == b || b == c || a == c) return;  // degenerate strip joints
       if (mirrored) std::swap(b, c);
