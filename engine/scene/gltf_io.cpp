@@ -174,9 +174,9 @@ class Converter {
     return e == "KHR_materials_emissive_strength" || e == "KHR_materials_transmission" ||
            e == "KHR_materials_specular" || e == "KHR_materials_clearcoat" ||
            e == "KHR_materials_ior" || e == "KHR_materials_volume" || e == "KHR_materials_unlit" ||
-           e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
-           e == "KHR_mesh_quantization" || e == "EXT_mesh_gpu_instancing" || e == kWebpExtension ||
-           isMeshCompression(e);
+           e == "KHR_materials_sheen" || e == "KHR_lights_punctual" ||
+           e == "KHR_texture_transform" || e == "KHR_mesh_quantization" ||
+           e == "EXT_mesh_gpu_instancing" || e == kWebpExtension || isMeshCompression(e);
   }
 
   void warn(const std::string& message) {
@@ -313,9 +313,6 @@ class Converter {
     out.metallicRoughnessTexture =
         texture(pbr.metallicRoughnessTexture, where + ".metallicRoughnessTexture", Texels::Data,
                 vec3(1.0f));
-    if (m.extensions.count("KHR_materials_transmission") &&
-        m.extensions.at("KHR_materials_transmission").Has("transmissionTexture"))
-      warn(where + ": transmissionTexture is not read (the factor is)");
     const auto layerTexture = [&](int index, int texCoord, const tinygltf::ExtensionMap& e,
                                   const std::string& field, Texels texels) {
       return texture(index, texCoord, e, field, texels, vec3(1.0f));

@@ -83,6 +83,23 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
       warnings.push_back(
           where + ": clearcoatNormalTexture is not read (the coat takes the surface's normal)");
   }
+  if (const auto it = m.extensions.find("KHR_materials_sheen");
+      it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& e = it->second;
+    const std::string field = where + ".extensions.KHR_materials_sheen";
+    readColor(path, e, "sheenColorFactor", field, 1.0f, out.sheenColor);
+    out.sheenRoughness = unitFactor(e, "sheenRoughnessFactor", 0.0f);
+    out.sheenColorTexture =
+        layerTexture(path, e, "sheenColorTexture", field, Texels::Color, texture);
+    // The roughness is in the alpha channel; an image without one is 1 (the factor alone).
+    out.sheenRoughnessTexture =
+        layerTexture(path, e, "sheenRoughnessTexture", field, Texels::Alpha, texture);
+  }
+  if (const auto it = m.extensions.find("KHR_materials_transmission");
+      it != m.extensions.end() && it->second.IsObject())
+    out.transmissionTexture =
+        layerTexture(path, it->second, "transmissionTexture",
+                     where + ".extensions.KHR_materials_transmission", Texels::Data, texture);
   // A volume (thicknessFactor > 0; 0 is a thin wall, which light crosses unchanged) absorbs
   // what travels inside it. Its thickness is a rasteriser's stand-in for the geometry, which a
   // path tracer has: not needed.

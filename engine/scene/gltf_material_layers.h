@@ -1,6 +1,7 @@
 // The layers glTF's material extensions put on the metallic-roughness model, for gltf_io.cpp:
 // KHR_materials_specular (the dielectric base's specular layer), KHR_materials_clearcoat (a
-// clear coat over the whole material) and KHR_materials_volume (absorption inside it); and
+// clear coat over the whole material), KHR_materials_sheen (fibres under the coat),
+// KHR_materials_transmission's texture and KHR_materials_volume (absorption inside it); and
 // KHR_materials_unlit, which puts them all aside. Internal to the glTF reader.
 #pragma once
 
@@ -24,7 +25,8 @@ using LayerTexture =
                       const std::string& where, Texels texels)>;
 
 // Reads the extensions into `out` (Material::specular, specularColor, clearcoat,
-// clearcoatRoughness and their textures, converted by `texture`; attenuationColor and
+// clearcoatRoughness, sheenColor, sheenRoughness and their textures, converted by `texture`;
+// transmissionTexture; attenuationColor and
 // attenuationDistance; unlit); returns a warning for each texture that is not read (the
 // coat's normal map). Throws SceneError naming the file and the field for a malformed colour,
 // attenuation distance or texture reference.

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace penumbra {
@@ -106,6 +107,23 @@ float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   return (1.0f - s) * wi.z * kInvPi + s * conductorPdf(b, wo, wi);
 }
 
+float maxOf(vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// What the sheen layer leaves of the material below it for the directions wo and wi.
+float sheenScaling(const SurfaceBsdf& b, float cosO, float cosI) {
+  const float m = maxOf(b.sheen);
+  const float scaling = std::min(1.0f - m * sheenAlbedo(cosO, b.sheenAlpha),
+                                 1.0f - m * sheenAlbedo(cosI, b.sheenAlpha));
+  return std::clamp(scaling, 0.0f, 1.0f);
+}
+
+// The chance that sampling draws the sheen layer (cosine-weighted): its albedo seen from wo,
+// between a twentieth and a half; 0 without one.
+float sheenChance(const SurfaceBsdf& b, vec3 wo) {
+  if (!b.hasSheen()) return 0.0f;
+  return std::clamp(maxOf(b.sheen) * sheenAlbedo(wo.z, b.sheenAlpha), 0.05f, 0.5f);
+}
+
 // Local-space (n = +z) helpers. Diffuse and conductor are two-sided: wo below the
 // surface is handled by mirroring both directions to the upper side.
 vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
@@ -123,6 +141,8 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       vec3 f(0.0f);
       if (b.diffuseWeight > 0) f += b.diffuseWeight * baseEval(b, wo, wi);
       if (b.conductorWeight > 0) f += b.conductorWeight * conductorEval(b, wo, wi);
+      if (b.hasSheen())
+        f = f * sheenScaling(b, wo.z, wi.z) + b.sheen * (sheenLobe(wo, wi, b.sheenAlpha) * wi.z);
       if (b.coat > 0) {
         const vec3 h = glm::normalize(wo + wi);
         const float c = b.coat * coatFresnel(glm::dot(wo, h));
@@ -150,6 +170,10 @@ float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       float pdf = 0;
       if (b.diffuseWeight > 0) pdf += b.diffuseWeight * basePdf(b, wo, wi);
       if (b.conductorWeight > 0) pdf += b.conductorWeight * conductorPdf(b, wo, wi);
+      if (b.hasSheen()) {
+        const float sheen = sheenChance(b, wo);
+        pdf = (1.0f - sheen) * pdf + sheen * wi.z * kInvPi;
+      }
       if (b.coat > 0) {
         const float c = coatChance(b, wo);
         pdf = (1.0f - c) * pdf + c * coatPdf(b, wo, glm::normalize(wo + wi));
@@ -192,6 +216,90 @@ void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) 
   out.weight = vec3(eta * eta);
 }
 }  // namespace
+
+namespace {
+
+// sheenAlbedo's table: E at cos(theta) = i / (kCount - 1) and sqrt(alpha) = j / (kCount - 1).
+struct SheenAlbedoTable {
+  static constexpr int kCount = 32;
+  std::array<float, kCount * kCount> e{};
+};
+
+// E(cosO, alpha) by quadrature over the half vector h drawn from D(h) cos(theta_h), uniform in
+// (u, phi) with sin(theta_h) = u^(alpha / (2 alpha + 1)). A sample's weight is f cos_i over the
+// pdf of wi, D cos(theta_h) / (4 wo.h): 4 V cos_i (wo.h) / cos(theta_h). u = t^2 (3 - 2 t) with
+// t at the midpoints of its strata, which packs them towards both ends: near u = 1 the
+// 1 / cos(theta_h) of a grazing wo (which grows as (1 - u)^(-1/2)) is integrated smoothly, and
+// near u = 0 lie the steep half vectors that alone reflect a wo near the normal. phi over
+// [0, pi] (wo lies in the xz plane).
+float sheenAlbedoByQuadrature(float cosO, float alpha) {
+  constexpr int kT = 128, kPhi = 32;
+  const vec3 wo(std::sqrt(std::max(0.0f, 1.0f - cosO * cosO)), 0.0f, cosO);
+  const float exponent = alpha / (2.0f * alpha + 1.0f);
+  static const std::array<glm::vec2, kPhi> phis = [] {
+    std::array<glm::vec2, kPhi> p;
+    for (int i = 0; i < kPhi; ++i) {
+      const float phi = kPi * (float(i) + 0.5f) / kPhi;
+      p[size_t(i)] = {std::cos(phi), std::sin(phi)};
+    }
+    return p;
+  }();
+  double sum = 0;
+  for (int it = 0; it < kT; ++it) {
+    const float t = (float(it) + 0.5f) / kT;
+    const float u = t * t * (3.0f - 2.0f * t), du = 6.0f * t * (1.0f - t);
+    const float sinH = std::pow(u, exponent);
+    const float cosH = std::sqrt(std::max(0.0f, 1.0f - sinH * sinH));
+    if (!(cosH > 0)) continue;
+    for (const glm::vec2 phi : phis) {
+      const vec3 h(sinH * phi.x, sinH * phi.y, cosH);
+      const float oh = glm::dot(wo, h);
+      const float cosI = 2.0f * oh * cosH - cosO;
+      if (!(oh > 0) || !(cosI > 0)) continue;
+      const float v = 1.0f / (4.0f * (cosI + cosO - cosI * cosO));
+      sum += du * (4.0f * v * cosI * oh / cosH);
+    }
+  }
+  return float(sum / (kT * kPhi));
+}
+
+const SheenAlbedoTable& sheenAlbedoTable() {
+  static const SheenAlbedoTable table = [] {
+    SheenAlbedoTable t;
+    constexpr int n = SheenAlbedoTable::kCount;
+    for (int j = 0; j < n; ++j) {
+      const float r = float(j) / (n - 1);
+      const float alpha = std::max(r * r, kMinSheenAlpha);
+      for (int i = 0; i < n; ++i)
+        t.e[size_t(j * n + i)] = sheenAlbedoByQuadrature(float(i) / (n - 1), alpha);
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+float sheenLobe(vec3 wo, vec3 wi, float alpha) {
+  if (!(wo.z > 0) || !(wi.z > 0)) return 0.0f;
+  const vec3 h = glm::normalize(wo + wi);
+  const float sin2 = std::max(0.0f, 1.0f - h.z * h.z);
+  const float d = (2.0f + 1.0f / alpha) * std::pow(sin2, 0.5f / alpha) * (0.5f * kInvPi);
+  const float v = 1.0f / (4.0f * (wi.z + wo.z - wi.z * wo.z));
+  return d * v;
+}
+
+float sheenAlbedo(float cosTheta, float alpha) {
+  constexpr int n = SheenAlbedoTable::kCount;
+  const SheenAlbedoTable& t = sheenAlbedoTable();
+  const float x = std::clamp(std::abs(cosTheta), 0.0f, 1.0f) * (n - 1);
+  const float y = std::sqrt(std::clamp(alpha, 0.0f, 1.0f)) * (n - 1);
+  const int i = std::min(int(x), n - 2), j = std::min(int(y), n - 2);
+  const float fx = x - float(i), fy = y - float(j);
+  const float* row0 = &t.e[size_t(j * n + i)];
+  const float* row1 = row0 + n;
+  return (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
+}
 
 ShadingFrame makeFrame(vec3 n) {
   // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
@@ -273,12 +381,24 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
         }
         uc = std::min((uc - coat) / (1.0f - coat), 0.99999994f);
       }
+      const float sheen = sheenChance(b, vec3(wo.x, wo.y, std::abs(wo.z)));
+      if (sheen > 0) {
+        if (uc < sheen) {
+          wi = cosineHemisphere(u);
+          wi.z *= side;
+          break;  // weighted by the mix's f / pdf below
+        }
+        uc = std::min((uc - sheen) / (1.0f - sheen), 0.99999994f);
+      }
       if (uc < b.dielectricWeight) {
         sampleDielectric(b, wo, uc / b.dielectricWeight, out);
         // Transmission is tinted by the base colour (glTF's KHR_materials_transmission).
         if (glm::dot(out.wi, b.frame.n) * wo.z < 0) out.weight *= b.color;
         // Under a coat, glass gets what the coat lets through, over the chance of not drawing it.
         if (coat > 0) out.weight *= (1.0f - b.coat * coatFresnel(std::abs(wo.z))) / (1.0f - coat);
+        // Under sheen, what the fibres do not reflect, over the chance of not drawing them.
+        if (sheen > 0)
+          out.weight *= sheenScaling(b, std::abs(wo.z), std::abs(wo.z)) / (1.0f - sheen);
         return true;
       }
       const float rest = b.diffuseWeight + b.conductorWeight;

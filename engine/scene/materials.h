@@ -1,7 +1,8 @@
 // BSDFs of the material kinds: Lambertian diffuse, rough conductor (GGX microfacets, Smith
 // shadowing, Schlick Fresnel), ideal mirror, smooth dielectric, and Pbr: glTF's
 // metallic-roughness model, a mix by weight of a conductor, glass and a dielectric base (diffuse
-// under an untinted GGX layer, mixed by Fresnel), sampled by picking one part by its weight.
+// under an untinted GGX layer, mixed by Fresnel), sampled by picking one part by its weight,
+// under an optional sheen layer (Charlie fibres) and an optional clear coat.
 // Emission is a property of any material (Material::emission). Directions are in
 // world space; wo points away from the surface towards the previous vertex.
 #pragma once
@@ -28,6 +29,8 @@ struct SurfaceBsdf {
   vec3 specularColor = vec3(1.0f);  // and its tint at normal incidence
   float coat = 0.0f;                // Pbr: the clear coat's weight (0: none)
   float coatAlpha = 1e-3f;          // and its GGX alpha
+  vec3 sheen = vec3(0.0f);          // Pbr: the sheen layer's colour (black: none)
+  float sheenAlpha = 0.25f;         // and its Charlie alpha, in [kMinSheenAlpha, 1]
   // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
   // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
   // specular).
@@ -37,8 +40,10 @@ struct SurfaceBsdf {
 
   bool isSpecular() const {
     return type == Material::Type::Mirror || type == Material::Type::Dielectric ||
-           (type == Material::Type::Pbr && !(diffuseWeight + conductorWeight > 0) && !(coat > 0));
+           (type == Material::Type::Pbr && !(diffuseWeight + conductorWeight > 0) && !(coat > 0) &&
+            !hasSheen());
   }
+  bool hasSheen() const { return sheen.x > 0 || sheen.y > 0 || sheen.z > 0; }
   // Whether sampling draws a number to choose a lobe (reflect or refract, or a Pbr part).
   bool choosesLobe() const {
     return type == Material::Type::Dielectric || type == Material::Type::Pbr;
@@ -58,6 +63,21 @@ float bsdfPdf(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
 // u2 picks the direction, u1 picks between reflection and refraction (and first, for Pbr,
 // the part).
 bool sampleBsdf(const SurfaceBsdf& bsdf, vec3 wo, glm::vec2 u2, float u1, BsdfSample& out);
+
+// The sheen layer (glTF's KHR_materials_sheen): fibres whose normals follow the Charlie
+// distribution of Estevez and Kulla 2017, D(h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi),
+// with alpha = sheenRoughness^2, and the visibility term of Neubelt and Pettineo 2013,
+// V = 1 / (4 (cos_i + cos_o - cos_i cos_o)); f = sheen D V. The material below keeps
+// min(1 - max(sheen) E(cos_o), 1 - max(sheen) E(cos_i)) of itself, E the white layer's
+// directional albedo (glTF's albedo scaling).
+inline constexpr float kMinSheenAlpha = 1e-3f;
+// D V for unit directions about n = +z on the same side (0 otherwise), alpha in
+// [kMinSheenAlpha, 1].
+float sheenLobe(vec3 wo, vec3 wi, float alpha);
+// E: the directional albedo of a white sheen layer seen at cosTheta (|cos| is used), the
+// integral of D V cos_i over the hemisphere; from a table computed on first use by quadrature
+// over the half vector, drawn from D cos(theta_h) (sin(theta_h) = u^(alpha / (2 alpha + 1))).
+float sheenAlbedo(float cosTheta, float alpha);
 
 // Fresnel reflectance of a dielectric interface for cosThetaI (signed: negative means
 // arriving from inside) and relative index eta = n_inside / n_outside.

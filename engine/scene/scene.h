@@ -99,6 +99,14 @@ struct Material {
   float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
   int clearcoatTexture = -1;           // weight x red (linear data)
   int clearcoatRoughnessTexture = -1;  // roughness x green (linear data)
+  // Pbr: glTF's KHR_materials_sheen: a layer of fibres over the whole material (under the coat)
+  // that reflects sheenColor by the Charlie distribution of alpha sheenRoughness^2, and takes
+  // from the material below what it reflects (glTF's albedo scaling). Black: none.
+  vec3 sheenColor = vec3(0.0f);
+  float sheenRoughness = 0.0f;
+  int sheenColorTexture = -1;      // multiplies `sheenColor` (sRGB)
+  int sheenRoughnessTexture = -1;  // multiplies `sheenRoughness` (its alpha channel)
+  int transmissionTexture = -1;    // multiplies `transmission` (its red channel, linear)
   // Pbr and Dielectric: glTF's KHR_materials_volume: light travelling inside the (closed) object
   // keeps attenuationColor^(distance / attenuationDistance) of itself; an infinite distance
   // absorbs nothing.
@@ -126,7 +134,7 @@ struct Material {
            attenuationColor != vec3(1.0f);
   }
   // Every texture id of the material (-1 where it has none).
-  std::array<int*, 9> textureIds() {
+  std::array<int*, 12> textureIds() {
     return {&albedoTexture,
             &metallicRoughnessTexture,
             &emissionTexture,
@@ -135,14 +143,18 @@ struct Material {
             &specularTexture,
             &specularColorTexture,
             &clearcoatTexture,
-            &clearcoatRoughnessTexture};
+            &clearcoatRoughnessTexture,
+            &sheenColorTexture,
+            &sheenRoughnessTexture,
+            &transmissionTexture};
   }
   // Whether its surface reads a texture when shaded (cut-outs are Embree's): its hits need
   // their uv footprint.
   bool textured() const {
     return albedoTexture >= 0 || metallicRoughnessTexture >= 0 || emissionTexture >= 0 ||
            normalTexture >= 0 || specularTexture >= 0 || specularColorTexture >= 0 ||
-           clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0;
+           clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0 || sheenColorTexture >= 0 ||
+           sheenRoughnessTexture >= 0 || transmissionTexture >= 0;
   }
 };
 

@@ -40,10 +40,24 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
     roughness *= t.y;
     metallic *= std::clamp(t.z, 0.0f, 1.0f);
   }
+  const auto texel = [&](int texture) {
+    return evalTexture(scene, scene.textures[size_t(texture)], s.uv, s.footprint);
+  };
   if (m.type == Material::Type::Pbr) {
+    float transmission = m.transmission;
+    if (m.transmissionTexture >= 0 && transmission > 0)
+      transmission *= std::clamp(texel(m.transmissionTexture).x, 0.0f, 1.0f);
     b.conductorWeight = metallic;
-    b.dielectricWeight = (1.0f - metallic) * m.transmission;
+    b.dielectricWeight = (1.0f - metallic) * transmission;
     b.diffuseWeight = std::max(0.0f, 1.0f - b.conductorWeight - b.dielectricWeight);
+    if (m.sheenColor != vec3(0.0f)) {
+      b.sheen = m.sheenColor;
+      float sheenRoughness = m.sheenRoughness;
+      if (m.sheenColorTexture >= 0) b.sheen *= texel(m.sheenColorTexture);
+      if (m.sheenRoughnessTexture >= 0) sheenRoughness *= texel(m.sheenRoughnessTexture).x;
+      b.sheen = glm::clamp(b.sheen, vec3(0.0f), vec3(1.0f));
+      b.sheenAlpha = std::clamp(sheenRoughness * sheenRoughness, kMinSheenAlpha, 1.0f);
+    }
   }
   const float alpha = roughness * roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
@@ -52,9 +66,6 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   b.specularColor = m.specularColor;
   b.coat = m.clearcoat;
   float coatRoughness = m.clearcoatRoughness;
-  const auto texel = [&](int texture) {
-    return evalTexture(scene, scene.textures[size_t(texture)], s.uv, s.footprint);
-  };
   if (m.specularTexture >= 0) b.specular *= std::clamp(texel(m.specularTexture).x, 0.0f, 1.0f);
   if (m.specularColorTexture >= 0) b.specularColor *= texel(m.specularColorTexture);
   if (m.clearcoatTexture >= 0) b.coat *= std::clamp(texel(m.clearcoatTexture).x, 0.0f, 1.0f);

@@ -541,12 +541,12 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["textures"] = {{{"source", 0}}};
   j["materials"][0]["occlusionTexture"] = {{"index", 0}};
   j["materials"][1]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
-  j["extensionsUsed"].push_back("KHR_materials_sheen");
+  j["extensionsUsed"].push_back("KHR_materials_iridescence");
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
   const std::string all = allWarnings(g);
   for (const char* part : {"materials[0]: occlusionTexture is ignored",
                            "materials[1].normalTexture: uv set 1 is not read",
-                           "extension KHR_materials_sheen is not supported"})
+                           "extension KHR_materials_iridescence is not supported"})
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
 }
 
@@ -620,6 +620,54 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   const std::string all = allWarnings(g);
   EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
+}
+
+TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][2]["extensions"]["KHR_materials_sheen"] = {
+      {"sheenColorFactor", {1.0, 0.5, 0.25}},
+      {"sheenRoughnessFactor", 0.6},
+      {"sheenColorTexture", {{"index", 1}}},
+      {"sheenRoughnessTexture", {{"index", 0}}}};
+  j["materials"][3]["extensions"]["KHR_materials_transmission"] = {
+      {"transmissionFactor", 1.0}, {"transmissionTexture", {{"index", 2}}}};
+  // Image 0: the roughness in its alpha (64); image 1: an sRGB colour; image 2: the
+  // transmission in red, linear.
+  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 64})}},
+                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}},
+                 {{"uri", pngUri(1, 1, 3, {51, 0, 0})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}, {{"source", 2}}};
+  j["extensionsUsed"].push_back("KHR_materials_sheen");
+  j["extensionsUsed"].push_back("KHR_materials_transmission");
+  const GltfData g = loadGltf(writeGltf("sheen.gltf", j));
+  const Material& m = g.materials[2];
+  EXPECT_EQ(m.sheenColor, vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(m.sheenRoughness, 0.6f);
+  EXPECT_EQ(g.materials[0].sheenColor, vec3(0.0f)) << "without the extension";
+  ASSERT_GE(m.sheenColorTexture, 0);
+  const TextureImage& colour = g.images[size_t(g.textures[size_t(m.sheenColorTexture)].imageIndex)];
+  EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
+  EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
+  ASSERT_GE(m.sheenRoughnessTexture, 0);
+  const TextureImage& roughness =
+      g.images[size_t(g.textures[size_t(m.sheenRoughnessTexture)].imageIndex)];
+  EXPECT_EQ(roughness.channels, 1) << "the alpha channel alone";
+  EXPECT_NEAR(textureTexel(roughness, 0, 0, 0).x, 64.0f / 255.0f, 1e-6f);
+  const Material& glass = g.materials[3];
+  EXPECT_FLOAT_EQ(glass.transmission, 1.0f);
+  ASSERT_GE(glass.transmissionTexture, 0);
+  const TextureImage& share =
+      g.images[size_t(g.textures[size_t(glass.transmissionTexture)].imageIndex)];
+  EXPECT_EQ(share.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(share, 0, 0, 0).x, 0.2f, 1e-6f);
+  const std::string all = allWarnings(g);
+  EXPECT_EQ(all.find("is not read"), std::string::npos) << all;
+  EXPECT_EQ(all.find("KHR_materials_sheen is not supported"), std::string::npos) << all;
+  j["materials"][2]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"] = {1.0, 2.0, 0.0};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[2].extensions.KHR_materials_sheen.sheenColorFactor", "at most 1"});
 }
 
 TEST(Gltf, VolumeAndUnlitExtensionsAreRead) {

@@ -5,6 +5,7 @@
 #include "core/constants.h"
 #include "methods/render.h"
 #include "scene/lights.h"
+#include "scene/materials.h"
 #include "scene/scene_loader.h"
 #include "tests/test_paths.h"
 #include "trace/integrator.h"
@@ -173,6 +174,36 @@ TEST(EnvironmentLighting, TexturesScaleTheSpecularLayerAndTheCoat) {
     const Stats half = halvedBy(slot, specular);
     EXPECT_NEAR(half.mean, 0.02, std::max(4 * half.standardError, 1e-3));
   }
+}
+
+TEST(EnvironmentLighting, SheenReflectsItsDirectionalAlbedoOfTheSky) {
+  // A black plane without a specular layer, under white sheen of roughness 0.5, reflects E(cos)
+  // of a uniform sky of 1 (direct light only): little straight on, far more towards grazing. A
+  // sheen colour texture of 0.5 halves it.
+  const auto sheen = [](float degrees, bool textured) {
+    return glossyBlackPlane(degrees, 1.5f, 0.0f, [&](Material& m, Scene& scene) {
+      m.sheenColor = vec3(1.0f);
+      m.sheenRoughness = 0.5f;
+      if (!textured) return;
+      scene.images.push_back(makeTextureImage(Image(1, 1, vec3(0.5f))));
+      Texture t;
+      t.kind = Texture::Kind::Image;
+      t.imageIndex = int(scene.images.size()) - 1;
+      scene.textures.push_back(t);
+      m.sheenColorTexture = int(scene.textures.size()) - 1;
+    });
+  };
+  for (float degrees : {0.0f, 60.0f, 80.0f}) {
+    const double e = sheenAlbedo(std::cos(degrees * float(kPiD) / 180.0f), 0.25f);
+    const Stats s = sheen(degrees, false);
+    EXPECT_NEAR(s.mean, e, std::max(4 * s.standardError, 0.01 * e)) << degrees << " degrees";
+    if (degrees == 60.0f) {
+      const Stats half = sheen(degrees, true);
+      EXPECT_NEAR(half.mean, 0.5 * e, std::max(4 * half.standardError, 0.005 * e));
+    }
+  }
+  EXPECT_GT(sheenAlbedo(std::cos(80.0f * float(kPiD) / 180.0f), 0.25f),
+            4 * sheenAlbedo(1.0f, 0.25f));
 }
 
 TEST(EnvironmentLighting, PbrBaseUnderAConstantMapLosesNoMoreThanItsFresnelShare) {
