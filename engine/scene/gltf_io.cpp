@@ -76,7 +76,13 @@ class Converter {
       : path_(path), model_(model), options_(options), imagesNotRead_(imagesNotRead), out_(out) {}
 
   void materials() {
-    for (size_t i = 0; i < model_.materials.size(); ++i) out_.materials.push_back(material(i));
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      materialUvSets_.clear();
+      out_.materials.push_back(material(i));
+      std::vector<std::string> warnings;
+      uvSets_.push_back(materialUvSet(materialUvSets_, warnings));
+      for (const std::string& w : warnings) warn(w);
+    }
   }
 
   // Reads every animation's translation, rotation and scale channels, and settles the shutter
@@ -199,21 +205,6 @@ class Converter {
     return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
   }
 
-  // The image a texture reads: EXT_texture_webp's when it names one (a fallback in `source`
-  // is for viewers that read no WebP), else `source`.
-  int textureSource(const tinygltf::Texture& t, const std::string& where) {
-    const auto webp = t.extensions.find(kWebpExtension);
-    if (webp == t.extensions.end() || !webp->second.IsObject() || !webp->second.Has("source"))
-      return t.source;
-    const tinygltf::Value& source = webp->second.Get("source");
-    if (!source.IsInt() || source.GetNumberAsInt() < 0 ||
-        size_t(source.GetNumberAsInt()) >= model_.images.size())
-      fail(path_, where + ".extensions." + kWebpExtension + ".source",
-           "image " + (source.IsNumber() ? number(source.GetNumberAsDouble()) : "?") +
-               " does not exist");
-    return source.GetNumberAsInt();
-  }
-
   int texture(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
               const std::string& where, Texels texels, vec3 factor) {
     if (index < 0) return -1;
@@ -221,7 +212,7 @@ class Converter {
       fail(path_, where, "texture " + std::to_string(index) + " does not exist");
     const tinygltf::Texture& gltfTexture = model_.textures[size_t(index)];
     const std::string textureWhere = indexed("textures", size_t(index));
-    const int source = textureSource(gltfTexture, textureWhere);
+    const int source = textureSource(path_, model_, gltfTexture, textureWhere);
     if (source < 0 || size_t(source) >= model_.images.size()) {
       // An image only in an extension's format: left out, the factor alone is used.
       for (const char* e : kImageFormatExtensions)
@@ -251,9 +242,7 @@ class Converter {
       t.wrap.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
     }
     textureTransform(path_, extensions, where, t, texCoord);
-    if (texCoord != 0)
-      warn(where + ": uv set " + std::to_string(texCoord) +
-           " is not read; the first uv set is used");
+    materialUvSets_.push_back({where, texCoord});
     const TextureKey key{source,
                          int(texels),
                          {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)),
@@ -612,7 +601,12 @@ class Converter {
                             r.get(v, 3));
                         return transformTangent(glm::mat3(transform(0, v)), t);
                       });
-    appendAttribute(target, accessorOf("TEXCOORD_0"), where + ".TEXCOORD_0", vertexCount, 2,
+    // The uv set its material's textures read (0 without a material or textures).
+    const int uvSet = prim.material >= 0 && size_t(prim.material) < uvSets_.size()
+                          ? uvSets_[size_t(prim.material)]
+                          : 0;
+    const std::string uvName = "TEXCOORD_" + std::to_string(uvSet);
+    appendAttribute(target, accessorOf(uvName.c_str()), where + "." + uvName, vertexCount, 2,
                     target.uvs, anyUvs, [&](const AccessorReader& r, size_t v) {
                       // glTF's v runs down the image; ours runs up.
                       return vec2(float(r.get(v, 0)), 1.0f - float(r.get(v, 1)));
@@ -711,6 +705,8 @@ class Converter {
   std::vector<std::optional<gltf::WeightsTrack>> weightTracks_;  // per node
   bool animating_ = false;                                       // motion blur over the shutter
   std::set<std::string> warned_;
+  std::vector<gltf::UvSetUse> materialUvSets_;  // the texture references of the material read
+  std::vector<int> uvSets_;                     // per material, the uv set its textures read
   // A texture of ours: the image, its conversion, and its factor, wrap modes and uv transform.
   using TextureKey = std::tuple<int, int, std::array<float, 12>>;
   std::map<TextureKey, int> textureIds_;

@@ -175,4 +175,30 @@ void textureTransform(const std::string& path, const tinygltf::ExtensionMap& ext
   t.uvTransformed = t.uvLinear != glm::mat2(1.0f) || t.uvOffset != glm::vec2(0.0f);
 }
 
+int textureSource(const std::string& path, const tinygltf::Model& model,
+                  const tinygltf::Texture& texture, const std::string& where) {
+  const auto webp = texture.extensions.find(kWebpExtension);
+  if (webp == texture.extensions.end() || !webp->second.IsObject() || !webp->second.Has("source"))
+    return texture.source;
+  const tinygltf::Value& source = webp->second.Get("source");
+  if (!source.IsInt() || source.GetNumberAsInt() < 0 ||
+      size_t(source.GetNumberAsInt()) >= model.images.size())
+    fail(path, where + ".extensions." + kWebpExtension + ".source",
+         "image " + (source.IsNumber() ? number(source.GetNumberAsDouble()) : "?") +
+             " does not exist");
+  return source.GetNumberAsInt();
+}
+
+int materialUvSet(const std::vector<UvSetUse>& uses, std::vector<std::string>& warnings) {
+  if (uses.empty()) return 0;
+  const int set = uses.front().set;
+  for (const UvSetUse& use : uses)
+    if (use.set != set)
+      warnings.push_back(use.where + ": uv set " + std::to_string(use.set) +
+                         " is not read; uv set " + std::to_string(set) + " is used (" +
+                         uses.front().where +
+                         "'s: the material's textures are read in one uv set)");
+  return set;
+}
+
 }  // namespace penumbra::gltf

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace penumbra::gltf {
 
@@ -49,5 +50,21 @@ TextureWrap wrapMode(const std::string& path, int mode, const std::string& where
 // Malformed values throw SceneError naming `where`.
 void textureTransform(const std::string& path, const tinygltf::ExtensionMap& extensions,
                       const std::string& where, Texture& t, int& texCoord);
+
+// The image a texture reads: EXT_texture_webp's when it names one (a fallback in `source` is
+// for viewers that read no WebP), else `source`. A WebP image that does not exist throws
+// SceneError naming `where`.
+int textureSource(const std::string& path, const tinygltf::Model& model,
+                  const tinygltf::Texture& texture, const std::string& where);
+
+// A texture reference of a material: where it is, and the uv set it reads.
+struct UvSetUse {
+  std::string where;
+  int set = 0;
+};
+// The one uv set a material's textures are read in (this engine keeps one per vertex): its
+// first texture's (the base colour's, when it has one), 0 without textures. Each reference on
+// another set gets a warning in `warnings`.
+int materialUvSet(const std::vector<UvSetUse>& uses, std::vector<std::string>& warnings);
 
 }  // namespace penumbra::gltf

@@ -540,14 +540,46 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["images"] = {{{"uri", pngUri(1, 1, 3, {128, 128, 255})}}};
   j["textures"] = {{{"source", 0}}};
   j["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   j["materials"][1]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
   j["extensionsUsed"].push_back("KHR_materials_iridescence");
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
   const std::string all = allWarnings(g);
   for (const char* part : {"materials[0]: occlusionTexture is ignored",
-                           "materials[1].normalTexture: uv set 1 is not read",
+                           "materials[1].normalTexture: uv set 1 is not read; uv set 0 is "
+                           "used (materials[1].baseColorTexture's",
                            "extension KHR_materials_iridescence is not supported"})
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
+}
+
+TEST(Gltf, AMaterialsTexturesAreReadInTheUvSetTheyName) {
+  // The quad's TEXCOORD_1 reads the normals' floats as pairs: (0, 0), (1, 0), (0, 1), (0, 0).
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["accessors"].push_back(
+      {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 4;
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {128, 128, 255})}}};
+  j["textures"] = {{{"source", 0}}};
+  const auto uvsOf = [&](const Json& file) {
+    const GltfData g = loadGltf(writeGltf("uvs.gltf", file));
+    EXPECT_EQ(allWarnings(g).find("uv set"), std::string::npos) << allWarnings(g);
+    return std::vector<vec2>(g.mesh.uvs.begin(), g.mesh.uvs.begin() + 4);
+  };
+  // Without textures, and with textures on set 0: TEXCOORD_0, v flipped.
+  const std::vector<vec2> first{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  EXPECT_EQ(uvsOf(j), first);
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  EXPECT_EQ(uvsOf(j), first);
+  // Every texture on set 1 (the reference's texCoord or its transform's): TEXCOORD_1.
+  const std::vector<vec2> second{{0, 1}, {1, 1}, {0, 0}, {0, 1}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  j["materials"][0]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
+  EXPECT_EQ(uvsOf(j), second);
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}};
+  j["extensionsUsed"].push_back("KHR_texture_transform");
+  EXPECT_EQ(uvsOf(j), second);
 }
 
 TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
