@@ -95,6 +95,20 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
     out.sheenRoughnessTexture =
         layerTexture(path, e, "sheenRoughnessTexture", field, Texels::Alpha, texture);
   }
+  if (const auto it = m.extensions.find("KHR_materials_anisotropy");
+      it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& e = it->second;
+    const std::string field = where + ".extensions.KHR_materials_anisotropy";
+    out.anisotropyStrength = unitFactor(e, "anisotropyStrength", 0.0f);
+    if (e.Has("anisotropyRotation")) {
+      const tinygltf::Value& r = e.Get("anisotropyRotation");
+      const double v = r.IsNumber() ? r.GetNumberAsDouble() : NAN;
+      if (!std::isfinite(v)) fail(path, field + ".anisotropyRotation", "must be a finite number");
+      out.anisotropyRotation = float(v);
+    }
+    out.anisotropyTexture =
+        layerTexture(path, e, "anisotropyTexture", field, Texels::Data, texture);
+  }
   if (const auto it = m.extensions.find("KHR_materials_transmission");
       it != m.extensions.end() && it->second.IsObject())
     out.transmissionTexture =

@@ -1,6 +1,7 @@
 // The layers glTF's material extensions put on the metallic-roughness model, for gltf_io.cpp:
 // KHR_materials_specular (the dielectric base's specular layer), KHR_materials_clearcoat (a
 // clear coat over the whole material), KHR_materials_sheen (fibres under the coat),
+// KHR_materials_anisotropy (the specular lobes stretched along a direction),
 // KHR_materials_transmission's texture and KHR_materials_volume (absorption inside it); and
 // KHR_materials_unlit, which puts them all aside. Internal to the glTF reader.
 #pragma once

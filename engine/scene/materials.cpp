@@ -38,6 +38,25 @@ float ggxG(vec3 wo, vec3 wi, float alpha) {
   return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
 }
 
+// Smith Lambda for anisotropic GGX: the squared tangent of w scaled along each axis.
+float anisotropicGgxLambda(vec3 w, float alphaX, float alphaY) {
+  const float cos2 = w.z * w.z;
+  const float scaled = alphaX * alphaX * w.x * w.x + alphaY * alphaY * w.y * w.y;
+  if (!(scaled > 0)) return 0;
+  return 0.5f * (-1.0f + std::sqrt(1.0f + scaled / std::max(cos2, 1e-12f)));
+}
+
+// The specular lobes' (conductor, and the dielectric base's layer) D and G, isotropic or not.
+float specularD(const SurfaceBsdf& b, vec3 h) {
+  return b.anisotropic ? anisotropicGgxD(h, b.alpha, b.alphaY) : ggxD(h, b.alpha);
+}
+
+float specularG(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+  if (!b.anisotropic) return ggxG(wo, wi, b.alpha);
+  return 1.0f / (1.0f + anisotropicGgxLambda(wo, b.alpha, b.alphaY) +
+                 anisotropicGgxLambda(wi, b.alpha, b.alphaY));
+}
+
 // Schlick's weight of the grazing reflectance, (1 - cos)^5.
 float schlickWeight(float cosTheta) {
   const float m = std::clamp(1.0f - cosTheta, 0.0f, 1.0f);
@@ -48,13 +67,13 @@ vec3 schlick(vec3 f0, float cosTheta) { return f0 + (vec3(1.0f) - f0) * schlickW
 
 vec3 conductorEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const vec3 h = glm::normalize(wo + wi);
-  const float d = ggxD(h, b.alpha), g = ggxG(wo, wi, b.alpha);
+  const float d = specularD(b, h), g = specularG(b, wo, wi);
   return schlick(b.color, glm::dot(wi, h)) * (d * g / (4.0f * wo.z));
 }
 
 float conductorPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const vec3 h = glm::normalize(wo + wi);
-  return ggxD(h, b.alpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
+  return specularD(b, h) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
 }
 
 // glTF's dielectric base of a Pbr material (the specification's fresnel_mix): the diffuse
@@ -72,7 +91,7 @@ vec3 baseFresnel(const SurfaceBsdf& b, float cosTheta) {
 vec3 baseEval(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const vec3 h = glm::normalize(wo + wi);
   const vec3 f = baseFresnel(b, glm::dot(wo, h));
-  const float specular = ggxD(h, b.alpha) * ggxG(wo, wi, b.alpha) / (4.0f * wo.z);
+  const float specular = specularD(b, h) * specularG(b, wo, wi) / (4.0f * wo.z);
   return (vec3(1.0f) - f) * b.color * (kInvPi * wi.z) + f * specular;
 }
 
@@ -194,6 +213,18 @@ vec3 sampleGgxHalfVector(float alpha, glm::vec2 u, float side) {
   return vec3(sinT * std::cos(phi), sinT * std::sin(phi), side * cosT);
 }
 
+// A half vector of the specular lobes, drawn from D(h) cos(theta_h) on the side of wo. The
+// anisotropic one by stretching: GGX's slopes for alpha 1, (-r cos phi, -r sin phi) with
+// r^2 = u / (1 - u), scaled by (alphaX, alphaY), are distributed as the anisotropic D's
+// (Heitz 2014, "Understanding the masking-shadowing function").
+vec3 sampleSpecularHalfVector(const SurfaceBsdf& b, glm::vec2 u, float side) {
+  if (!b.anisotropic) return sampleGgxHalfVector(b.alpha, u, side);
+  const float r = std::sqrt(u.x / std::max(1.0f - u.x, 1e-7f));
+  const float phi = 2.0f * kPi * u.y;
+  const vec3 h(-r * b.alpha * std::cos(phi), -r * b.alphaY * std::sin(phi), 1.0f);
+  return glm::normalize(vec3(h.x, h.y, side));
+}
+
 // Smooth dielectric: reflection with the Fresnel probability, refraction otherwise.
 void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) {
   const float f = fresnelDielectric(wo.z, b.ior);
@@ -280,6 +311,13 @@ const SheenAlbedoTable& sheenAlbedoTable() {
 
 }  // namespace
 
+float anisotropicGgxD(vec3 h, float alphaX, float alphaY) {
+  if (!(h.z > 0)) return 0;
+  const float x = h.x / alphaX, y = h.y / alphaY;
+  const float d = x * x + y * y + h.z * h.z;
+  return 1.0f / (kPi * alphaX * alphaY * d * d);
+}
+
 float sheenLobe(vec3 wo, vec3 wi, float alpha) {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0f;
   const vec3 h = glm::normalize(wo + wi);
@@ -355,7 +393,7 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       break;
     case Material::Type::Conductor: {
       // Sample D(h) cos(theta_h), reflect wo about h.
-      const vec3 h = sampleGgxHalfVector(b.alpha, u, side);
+      const vec3 h = sampleSpecularHalfVector(b, u, side);
       wi = 2.0f * glm::dot(wo, h) * h - wo;
       if (wi.z * wo.z <= 0) return false;
       break;
@@ -410,7 +448,7 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
           v < conductor || (v - conductor) / (1.0f - conductor) <
                                baseSpecularChance(b, vec3(wo.x, wo.y, std::abs(wo.z)));
       if (glossy) {
-        const vec3 h = sampleGgxHalfVector(b.alpha, u, side);
+        const vec3 h = sampleSpecularHalfVector(b, u, side);
         wi = 2.0f * glm::dot(wo, h) * h - wo;
         if (wi.z * wo.z <= 0) return false;
       } else {

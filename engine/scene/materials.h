@@ -23,7 +23,11 @@ ShadingFrame makeFrame(vec3 n);
 struct SurfaceBsdf {
   Material::Type type = Material::Type::Diffuse;
   vec3 color = vec3(0.8f);  // diffuse albedo or specular tint
-  float alpha = 0.04f;      // GGX alpha (conductor)
+  float alpha = 0.04f;      // GGX alpha (conductor; Pbr's conductor and specular layer)
+  // Pbr: glTF's KHR_materials_anisotropy: `alpha` along the frame's s (the anisotropy's
+  // direction), alphaY along its t. Only read when anisotropic.
+  bool anisotropic = false;
+  float alphaY = 0.04f;
   float ior = 1.5f;
   float specular = 1.0f;            // Pbr: the base's specular layer (Material::specular)
   vec3 specularColor = vec3(1.0f);  // and its tint at normal incidence
@@ -78,6 +82,10 @@ float sheenLobe(vec3 wo, vec3 wi, float alpha);
 // integral of D V cos_i over the hemisphere; from a table computed on first use by quadrature
 // over the half vector, drawn from D cos(theta_h) (sin(theta_h) = u^(alpha / (2 alpha + 1))).
 float sheenAlbedo(float cosTheta, float alpha);
+
+// The anisotropic GGX distribution of microfacet normals about n = +z, with alphaX along +x
+// and alphaY along +y: D(h) = 1 / (pi ax ay (hx^2 / ax^2 + hy^2 / ay^2 + hz^2)^2).
+float anisotropicGgxD(vec3 h, float alphaX, float alphaY);
 
 // Fresnel reflectance of a dielectric interface for cosThetaI (signed: negative means
 // arriving from inside) and relative index eta = n_inside / n_outside.

@@ -107,6 +107,14 @@ struct Material {
   int sheenColorTexture = -1;      // multiplies `sheenColor` (sRGB)
   int sheenRoughnessTexture = -1;  // multiplies `sheenRoughness` (its alpha channel)
   int transmissionTexture = -1;    // multiplies `transmission` (its red channel, linear)
+  // Pbr: glTF's KHR_materials_anisotropy: the specular lobes' alpha along the anisotropy's
+  // direction is mix(roughness^2, 1, strength^2), across it roughness^2. The direction is the
+  // tangent frame's +u (the normal map's), turned by `anisotropyRotation` radians towards +v;
+  // the texture's red and green (as 2 x - 1) give it per texel before the turn, its blue scales
+  // the strength (linear data).
+  float anisotropyStrength = 0.0f;
+  float anisotropyRotation = 0.0f;
+  int anisotropyTexture = -1;
   // Pbr and Dielectric: glTF's KHR_materials_volume: light travelling inside the (closed) object
   // keeps attenuationColor^(distance / attenuationDistance) of itself; an infinite distance
   // absorbs nothing.
@@ -126,6 +134,8 @@ struct Material {
   // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
   // per ray (stochastic transparency), instead of a cutoff.
   bool alphaBlend = false;
+  // Whether its hits need their tangent frame (SurfaceHit::tangent): a normal map or anisotropy.
+  bool needsTangents() const { return normalTexture >= 0 || anisotropyStrength > 0; }
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   bool hasCutouts() const { return alphaCutoff >= 0.0f || alphaBlend; }
   bool absorbs() const {
@@ -134,7 +144,7 @@ struct Material {
            attenuationColor != vec3(1.0f);
   }
   // Every texture id of the material (-1 where it has none).
-  std::array<int*, 12> textureIds() {
+  std::array<int*, 13> textureIds() {
     return {&albedoTexture,
             &metallicRoughnessTexture,
             &emissionTexture,
@@ -146,7 +156,8 @@ struct Material {
             &clearcoatRoughnessTexture,
             &sheenColorTexture,
             &sheenRoughnessTexture,
-            &transmissionTexture};
+            &transmissionTexture,
+            &anisotropyTexture};
   }
   // Whether its surface reads a texture when shaded (cut-outs are Embree's): its hits need
   // their uv footprint.
@@ -154,7 +165,7 @@ struct Material {
     return albedoTexture >= 0 || metallicRoughnessTexture >= 0 || emissionTexture >= 0 ||
            normalTexture >= 0 || specularTexture >= 0 || specularColorTexture >= 0 ||
            clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0 || sheenColorTexture >= 0 ||
-           sheenRoughnessTexture >= 0 || transmissionTexture >= 0;
+           sheenRoughnessTexture >= 0 || transmissionTexture >= 0 || anisotropyTexture >= 0;
   }
 };
 

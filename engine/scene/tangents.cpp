@@ -19,12 +19,12 @@ float cornerAngle(glm::vec3 toB, glm::vec3 toC) {
 void generateTangents(Mesh& mesh, const std::vector<Material>& materials) {
   if (mesh.timeSteps != 1 || mesh.uvs.empty()) return;
   const size_t triangles = mesh.triangleCount();
-  const auto normalMapped = [&](size_t tri) {
+  const auto needsTangents = [&](size_t tri) {
     const uint32_t id = mesh.materialIds[tri];
-    return id < materials.size() && materials[id].normalTexture >= 0;
+    return id < materials.size() && materials[id].needsTangents();
   };
   size_t first = 0;
-  while (first < triangles && !normalMapped(first)) ++first;
+  while (first < triangles && !needsTangents(first)) ++first;
   if (first == triangles) return;
   if (mesh.tangents.empty()) mesh.tangents.assign(mesh.vertexCount, glm::vec4(0.0f));
 
@@ -33,7 +33,7 @@ void generateTangents(Mesh& mesh, const std::vector<Material>& materials) {
   std::vector<glm::vec3> sum(2 * size_t(mesh.vertexCount), glm::vec3(0.0f));
   std::vector<float> weight(2 * size_t(mesh.vertexCount), 0.0f);
   for (size_t tri = first; tri < triangles; ++tri) {
-    if (!normalMapped(tri)) continue;
+    if (!needsTangents(tri)) continue;
     const uint32_t* idx = &mesh.indices[3 * tri];
     const glm::vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
     glm::vec3 dpdu, dpdv;

@@ -27,8 +27,8 @@ inline bool triangleTangents(glm::vec3 e1, glm::vec3 e2, glm::vec2 duv1, glm::ve
 }
 
 // Fills the tangents of the vertices of `mesh` that have none (w = 0) and belong to a
-// triangle whose material has a normal map. A mesh of several time steps, or without uvs,
-// is left as it is (its triangles take their own frames).
+// triangle whose material has a normal map or anisotropy (Material::needsTangents). A mesh of
+// several time steps, or without uvs, is left as it is (its triangles take their own frames).
 void generateTangents(Mesh& mesh, const std::vector<Material>& materials);
 // generateTangents for every mesh of the scene.
 void generateTangents(Scene& scene);

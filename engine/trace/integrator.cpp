@@ -25,6 +25,31 @@ float powerHeuristic(float a, float b) {
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
 }
 
+// glTF's KHR_materials_anisotropy on the specular lobes of `b` (whose alpha is set): alpha
+// mix(alpha, 1, strength^2) along the direction, alpha across it, in a frame whose s is the
+// direction. Isotropic where the strength comes to 0 or the direction is lost.
+void applyAnisotropy(const Scene& scene, const Material& m, const SurfaceHit& s, SurfaceBsdf& b) {
+  float strength = m.anisotropyStrength;
+  glm::vec2 direction(1.0f, 0.0f);
+  if (m.anisotropyTexture >= 0) {
+    const vec3 t =
+        evalTexture(scene, scene.textures[size_t(m.anisotropyTexture)], s.uv, s.footprint);
+    direction = 2.0f * glm::vec2(t.x, t.y) - glm::vec2(1.0f);
+    strength *= std::clamp(t.z, 0.0f, 1.0f);
+  }
+  const float c = std::cos(m.anisotropyRotation), sn = std::sin(m.anisotropyRotation);
+  const glm::vec2 turned(c * direction.x - sn * direction.y, sn * direction.x + c * direction.y);
+  const vec3 along = turned.x * s.tangent + turned.y * s.bitangent;
+  const float length = glm::length(along);
+  if (!(strength > 0) || !(length > 1e-6f)) return;
+  b.anisotropic = true;
+  b.alphaY = b.alpha;
+  b.alpha = b.alpha + (1.0f - b.alpha) * std::min(strength * strength, 1.0f);
+  b.frame.n = s.shadingNormal;
+  b.frame.s = along / length;
+  b.frame.t = glm::cross(b.frame.n, b.frame.s);
+}
+
 SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   const Material& m = scene.materials[s.materialId];
   SurfaceBsdf b;
@@ -61,6 +86,8 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   }
   const float alpha = roughness * roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);
+  if (m.type == Material::Type::Pbr && m.anisotropyStrength > 0 && s.tangent != vec3(0.0f))
+    applyAnisotropy(scene, m, s, b);
   b.ior = m.ior;
   b.specular = m.specular;
   b.specularColor = m.specularColor;
@@ -71,7 +98,7 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   if (m.clearcoatTexture >= 0) b.coat *= std::clamp(texel(m.clearcoatTexture).x, 0.0f, 1.0f);
   if (m.clearcoatRoughnessTexture >= 0) coatRoughness *= texel(m.clearcoatRoughnessTexture).y;
   b.coatAlpha = std::clamp(coatRoughness * coatRoughness, 1e-3f, 1.0f);
-  b.frame = makeFrame(s.shadingNormal);
+  if (!b.anisotropic) b.frame = makeFrame(s.shadingNormal);
   b.geometricNormal = s.geometricNormal;
   return b;
 }
@@ -144,22 +171,26 @@ std::unique_ptr<PreparedScene> prepareView(const PreparedScene& base, const Came
 }
 
 namespace {
-// Tilts the shading normal by a tangent-space normal map. The tangent frame is the mesh's
-// vertex tangents' at the hit (scene/tangents.h), else the triangle's (dp/du, dp/dv) made
-// orthonormal around the shading normal; the map's +y runs along +v (up the image: OpenGL's
-// and glTF's convention).
-void applyNormalMap(const Scene& scene, const Material& material, const Mesh& mesh,
-                    const uint32_t* idx, const Hit& hit, vec3 dpdu, vec3 dpdv, SurfaceHit& s) {
+// The tangent frame at a hit, around its shading normal: the mesh's vertex tangents' there
+// (scene/tangents.h), else the triangle's (dp/du, dp/dv) made orthonormal; false when the
+// triangle's dp/du lies along the normal.
+bool hitTangentFrame(const Mesh& mesh, const uint32_t* idx, const Hit& hit, vec3 dpdu, vec3 dpdv,
+                     const SurfaceHit& s, vec3& t, vec3& b) {
   const vec3 n = s.shadingNormal;
-  vec3 t, b;
-  if (!vertexTangentFrame(mesh, idx, 1 - hit.u - hit.v, hit.u, hit.v, n, t, b)) {
-    t = dpdu - n * glm::dot(n, dpdu);
-    const float tLength = glm::length(t);
-    if (!(tLength > 1e-12f)) return;
-    t /= tLength;
-    b = glm::cross(n, t);
-    if (glm::dot(b, dpdv) < 0) b = -b;
-  }
+  if (vertexTangentFrame(mesh, idx, 1 - hit.u - hit.v, hit.u, hit.v, n, t, b)) return true;
+  t = dpdu - n * glm::dot(n, dpdu);
+  const float tLength = glm::length(t);
+  if (!(tLength > 1e-12f)) return false;
+  t /= tLength;
+  b = glm::cross(n, t);
+  if (glm::dot(b, dpdv) < 0) b = -b;
+  return true;
+}
+
+// Tilts the shading normal by a tangent-space normal map read in the frame (t, b); the map's +y
+// runs along +v (up the image: OpenGL's and glTF's convention).
+void applyNormalMap(const Scene& scene, const Material& material, vec3 t, vec3 b, SurfaceHit& s) {
+  const vec3 n = s.shadingNormal;
   vec3 c =
       2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv, s.footprint) -
       vec3(1.0f);
@@ -169,6 +200,18 @@ void applyNormalMap(const Scene& scene, const Material& material, const Mesh& me
   const float length = glm::length(mapped);
   // A map pointing under the surface (or a broken texel) keeps the normal it had.
   if (length > 1e-6f && glm::dot(mapped, s.geometricNormal) > 0) s.shadingNormal = mapped / length;
+}
+
+// The hit's tangent frame made orthonormal around its (possibly mapped) shading normal, for
+// anisotropy: t keeps its direction in the tangent plane, b the side it was on.
+void keepTangentFrame(vec3 t, vec3 b, SurfaceHit& s) {
+  const vec3 n = s.shadingNormal;
+  t -= n * glm::dot(n, t);
+  const float length = glm::length(t);
+  if (!(length > 1e-12f)) return;
+  s.tangent = t / length;
+  s.bitangent = glm::cross(n, s.tangent);
+  if (glm::dot(s.bitangent, b) < 0) s.bitangent = -s.bitangent;
 }
 }  // namespace
 
@@ -267,7 +310,7 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
   // The triangle's tangents orient a normal map and turn differentials into a uv footprint:
   // only a textured material needs them.
   const Material& material = scene.materials[s.materialId];
-  const bool textured = material.textured();
+  const bool textured = material.textured() || material.needsTangents();
   vec3 dpdu, dpdv, dpdx, dpdy;
   if (!textured || mesh.uvs.empty() ||
       !triangleTangents(p1 - p0, p2 - p0, mesh.uvs[idx[1]] - mesh.uvs[idx[0]],
@@ -279,7 +322,10 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
     differentials = &approximate;
   if (differentials && differentialOffsets(*differentials, s.point, s.geometricNormal, dpdx, dpdy))
     s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
-  if (material.normalTexture >= 0) applyNormalMap(scene, material, mesh, idx, hit, dpdu, dpdv, s);
+  vec3 t, b;
+  if (!material.needsTangents() || !hitTangentFrame(mesh, idx, hit, dpdu, dpdv, s, t, b)) return s;
+  if (material.normalTexture >= 0) applyNormalMap(scene, material, t, b, s);
+  if (material.anisotropyStrength > 0) keepTangentFrame(t, b, s);
   return s;
 }
 

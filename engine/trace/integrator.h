@@ -86,6 +86,9 @@ struct SurfaceHit {
   vec3 vertexColor{1.0f};  // the mesh's vertex colours there (white without): scale the base colour
   bool vertexColored = false;
   UvFootprint footprint;  // uv across about one pixel; zero: textures' level 0
+  // Of a material that is anisotropic (Material::needsTangents): the tangent frame's +u and +v
+  // directions, orthonormal around shadingNormal; zero without.
+  vec3 tangent{0.0f}, bitangent{0.0f};
   uint32_t materialId = 0;
 };
 // Asks the cache for what surfaceAt(hit) will read: the triangle's vertices' positions,

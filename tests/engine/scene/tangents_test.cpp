@@ -83,11 +83,17 @@ TEST(Tangents, MirroredUvsGiveTheOtherHandednessAndTheirSeamTheLargerSide) {
   EXPECT_FALSE(vertexTangentFrame(mesh, &mesh.indices[3], 0.3f, 0.3f, 0.4f, vec3(0, 0, 1), t, b));
 }
 
-TEST(Tangents, OnlyNormalMappedStaticMeshesWithUvsGetThem) {
+TEST(Tangents, OnlyNormalMappedOrAnisotropicStaticMeshesWithUvsGetThem) {
   const std::vector<vec3> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   Mesh plain = planarMesh(corners, {{0, 0}, {1, 0}, {0, 1}}, {0, 1, 2});
   generateTangents(plain, std::vector<Material>(1));
   EXPECT_TRUE(plain.tangents.empty()) << "no normal map";
+  // Anisotropy reads its direction in the same frame.
+  std::vector<Material> anisotropic(1);
+  anisotropic[0].anisotropyStrength = 0.5f;
+  generateTangents(plain, anisotropic);
+  ASSERT_EQ(plain.tangents.size(), 3u);
+  EXPECT_EQ(plain.tangents[0], glm::vec4(1, 0, 0, 1));
   Mesh noUvs = planarMesh(corners, {}, {0, 1, 2});
   generateTangents(noUvs, normalMapped());
   EXPECT_TRUE(noUvs.tangents.empty());

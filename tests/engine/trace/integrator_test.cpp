@@ -1,6 +1,7 @@
 // Integrator tests against values known in closed form: two white-furnace scenes and a
 // diffuse plane under a disk light; plus NaN handling.
 #include "trace/integrator.h"
+#include "core/constants.h"
 #include "methods/render.h"
 #include "scene/scene_loader.h"
 #include "scene/tangents.h"
@@ -615,6 +616,38 @@ TEST(Integrator, AFarAwayCheckerTextureIsSeenAsItsMean) {
   for (int x = 1; x < 15; ++x)
     spread += std::abs(luminance(close.image.at(x, 8)) - luminance(close.image.at(x - 1, 8)));
   EXPECT_GT(spread / 14, 0.3) << "neighbouring pixels differ where the texels show";
+}
+
+// The highlight of a point light next to the camera on an anisotropic metal plane seen from
+// above: its spread along the image's x over its spread along y (second moments of the
+// picture). The plane's uv runs along x and z, so its tangent is +x.
+double highlightAspect(float strength, float rotation) {
+  Scene scene = sceneFrom(R"({
+    "render": {"width": 64, "height": 64, "max_depth": 1},
+    "camera": {"eye": [0, 6, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 40},
+    "materials": {"metal": {"type": "pbr", "albedo": 1, "metallic": 1, "roughness": 0.3}},
+    "lights": [{"type": "point", "position": [0, 6, 0], "intensity": 40}],
+    "objects": [{"shape": "rectangle", "size": [8, 8], "material": "metal"}]})");
+  scene.materials[0].anisotropyStrength = strength;
+  scene.materials[0].anisotropyRotation = rotation;
+  generateTangents(scene);
+  const Image image = renderScene(std::move(scene), 16).image;
+  double sum = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const double v = luminance(image.at(x, y));
+      sum += v, sx += v * x, sy += v * y, sxx += v * x * x, syy += v * y * y;
+    }
+  const double mx = sx / sum, my = sy / sum;
+  return (sxx / sum - mx * mx) / (syy / sum - my * my);
+}
+
+TEST(Integrator, AnisotropicHighlightsStretchAlongTheTangentTurnedByTheRotation) {
+  // glTF's anisotropy: the lobe is rough along the direction (the tangent, +x here, turned by
+  // the rotation) and smooth across it, so a point light's highlight stretches along it.
+  EXPECT_NEAR(highlightAspect(0.0f, 0.0f), 1.0, 0.1);
+  EXPECT_GT(highlightAspect(0.8f, 0.0f), 2.0);
+  EXPECT_LT(highlightAspect(0.8f, float(kPiD) / 2), 0.5);
 }
 
 TEST(Integrator, EmittersShineOnlyFromTheirCounterClockwiseSide) {

@@ -1,0 +1,202 @@
+// glTF's material extensions through loadGltf, on the quad of gltf_test_files.h: the
+// dielectric base's specular layer, the clear coat, sheen, transmission's texture, anisotropy,
+// volume and unlit, with their textures read as colour, data or alpha, and errors naming the
+// malformed field. How they shade is tests/engine/scene/materials_test.cpp's and the
+// environment lighting tests'.
+#include "scene/gltf_io.h"
+
+#include "tests/engine/scene/expect_scene_error.h"
+#include "tests/engine/scene/gltf_test_files.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace penumbra {
+namespace {
+
+using namespace gltf_test;
+using test::expectSceneError;
+
+TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][0]["extensions"]["KHR_materials_specular"] = {
+      {"specularFactor", 0.5},
+      {"specularColorFactor", {1.0, 0.5, 0.25}},
+      {"specularTexture", {{"index", 0}}},
+      {"specularColorTexture", {{"index", 1}}}};
+  // Image 0: the weight in its alpha (128); image 1: an sRGB colour.
+  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 128})}},
+                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  j["extensionsUsed"].push_back("KHR_materials_specular");
+  const GltfData g = loadGltf(writeGltf("specular.gltf", j));
+  const Material& m = g.materials[0];
+  EXPECT_FLOAT_EQ(m.specular, 0.5f);
+  EXPECT_EQ(m.specularColor, vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
+  EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
+  ASSERT_GE(m.specularTexture, 0);
+  const TextureImage& weight = g.images[size_t(g.textures[size_t(m.specularTexture)].imageIndex)];
+  EXPECT_EQ(weight.channels, 1) << "the alpha channel alone";
+  EXPECT_NEAR(textureTexel(weight, 0, 0, 0).x, 128.0f / 255.0f, 1e-6f);
+  ASSERT_GE(m.specularColorTexture, 0);
+  const TextureImage& colour =
+      g.images[size_t(g.textures[size_t(m.specularColorTexture)].imageIndex)];
+  EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
+  EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
+  const std::string all = allWarnings(g);
+  EXPECT_EQ(all.find("is not read"), std::string::npos) << all;
+  EXPECT_EQ(all.find("KHR_materials_specular is not supported"), std::string::npos) << all;
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularTexture"] = {{"texCoord", 0}};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("reference.gltf", j)); },
+      {"materials[0].extensions.KHR_materials_specular.specularTexture", "with an index"});
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularTexture"] = {{"index", 0}};
+  j["materials"][0]["extensions"]["KHR_materials_specular"]["specularColorFactor"] = {1.0, -1.0,
+                                                                                      0.0};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[0].extensions.KHR_materials_specular.specularColorFactor"});
+}
+
+TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {
+      {"clearcoatFactor", 0.8},
+      {"clearcoatRoughnessFactor", 0.2},
+      {"clearcoatTexture", {{"index", 0}}},
+      {"clearcoatRoughnessTexture", {{"index", 0}}},
+      {"clearcoatNormalTexture", {{"index", 0}}}};
+  // The weight in red, the roughness in green: linear data.
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
+  j["textures"] = {{{"source", 0}}};
+  j["extensionsUsed"].push_back("KHR_materials_clearcoat");
+  const GltfData g = loadGltf(writeGltf("coat.gltf", j));
+  const Material& m = g.materials[1];
+  EXPECT_FLOAT_EQ(m.clearcoat, 0.8f);
+  EXPECT_FLOAT_EQ(m.clearcoatRoughness, 0.2f);
+  EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
+  ASSERT_GE(m.clearcoatTexture, 0);
+  EXPECT_EQ(m.clearcoatRoughnessTexture, m.clearcoatTexture) << "one image read one way";
+  const TextureImage& coat = g.images[size_t(g.textures[size_t(m.clearcoatTexture)].imageIndex)];
+  EXPECT_EQ(coat.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(coat, 0, 0, 0).x, 0.2f, 1e-6f);
+  EXPECT_NEAR(textureTexel(coat, 0, 0, 0).y, 0.4f, 1e-6f);
+  const std::string all = allWarnings(g);
+  EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
+  EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
+}
+
+TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][2]["extensions"]["KHR_materials_sheen"] = {
+      {"sheenColorFactor", {1.0, 0.5, 0.25}},
+      {"sheenRoughnessFactor", 0.6},
+      {"sheenColorTexture", {{"index", 1}}},
+      {"sheenRoughnessTexture", {{"index", 0}}}};
+  j["materials"][3]["extensions"]["KHR_materials_transmission"] = {
+      {"transmissionFactor", 1.0}, {"transmissionTexture", {{"index", 2}}}};
+  // Image 0: the roughness in its alpha (64); image 1: an sRGB colour; image 2: the
+  // transmission in red, linear.
+  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 64})}},
+                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}},
+                 {{"uri", pngUri(1, 1, 3, {51, 0, 0})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}, {{"source", 2}}};
+  j["extensionsUsed"].push_back("KHR_materials_sheen");
+  j["extensionsUsed"].push_back("KHR_materials_transmission");
+  const GltfData g = loadGltf(writeGltf("sheen.gltf", j));
+  const Material& m = g.materials[2];
+  EXPECT_EQ(m.sheenColor, vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(m.sheenRoughness, 0.6f);
+  EXPECT_EQ(g.materials[0].sheenColor, vec3(0.0f)) << "without the extension";
+  ASSERT_GE(m.sheenColorTexture, 0);
+  const TextureImage& colour = g.images[size_t(g.textures[size_t(m.sheenColorTexture)].imageIndex)];
+  EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
+  EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
+  ASSERT_GE(m.sheenRoughnessTexture, 0);
+  const TextureImage& roughness =
+      g.images[size_t(g.textures[size_t(m.sheenRoughnessTexture)].imageIndex)];
+  EXPECT_EQ(roughness.channels, 1) << "the alpha channel alone";
+  EXPECT_NEAR(textureTexel(roughness, 0, 0, 0).x, 64.0f / 255.0f, 1e-6f);
+  const Material& glass = g.materials[3];
+  EXPECT_FLOAT_EQ(glass.transmission, 1.0f);
+  ASSERT_GE(glass.transmissionTexture, 0);
+  const TextureImage& share =
+      g.images[size_t(g.textures[size_t(glass.transmissionTexture)].imageIndex)];
+  EXPECT_EQ(share.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(share, 0, 0, 0).x, 0.2f, 1e-6f);
+  const std::string all = allWarnings(g);
+  EXPECT_EQ(all.find("is not read"), std::string::npos) << all;
+  EXPECT_EQ(all.find("KHR_materials_sheen is not supported"), std::string::npos) << all;
+  j["materials"][2]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"] = {1.0, 2.0, 0.0};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[2].extensions.KHR_materials_sheen.sheenColorFactor", "at most 1"});
+}
+
+TEST(Gltf, AnisotropyExtensionIsRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][1]["extensions"]["KHR_materials_anisotropy"] = {
+      {"anisotropyStrength", 0.6},
+      {"anisotropyRotation", 1.25},
+      {"anisotropyTexture", {{"index", 0}}}};
+  // The direction in red and green, the strength in blue: linear data.
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {255, 128, 51})}}};
+  j["textures"] = {{{"source", 0}}};
+  j["extensionsUsed"].push_back("KHR_materials_anisotropy");
+  const GltfData g = loadGltf(writeGltf("anisotropy.gltf", j));
+  const Material& m = g.materials[1];
+  EXPECT_FLOAT_EQ(m.anisotropyStrength, 0.6f);
+  EXPECT_FLOAT_EQ(m.anisotropyRotation, 1.25f);
+  EXPECT_TRUE(m.needsTangents());
+  EXPECT_EQ(g.materials[0].anisotropyStrength, 0.0f) << "without the extension";
+  ASSERT_GE(m.anisotropyTexture, 0);
+  const TextureImage& t = g.images[size_t(g.textures[size_t(m.anisotropyTexture)].imageIndex)];
+  EXPECT_EQ(t.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(t, 0, 0, 0).z, 0.2f, 1e-6f);
+  EXPECT_EQ(allWarnings(g).find("KHR_materials_anisotropy"), std::string::npos) << allWarnings(g);
+  j["materials"][1]["extensions"]["KHR_materials_anisotropy"]["anisotropyRotation"] = "left";
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[1].extensions.KHR_materials_anisotropy.anisotropyRotation"});
+}
+
+TEST(Gltf, VolumeAndUnlitExtensionsAreRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][3]["extensions"]["KHR_materials_volume"] = {{"thicknessFactor", 0.2},
+                                                             {"attenuationDistance", 0.5},
+                                                             {"attenuationColor", {0.9, 0.5, 0.1}}};
+  // A thin wall (thickness 0, the default) has no volume.
+  j["materials"][0]["extensions"]["KHR_materials_volume"] = {{"attenuationDistance", 0.5},
+                                                             {"attenuationColor", {0.5, 0.5, 0.5}}};
+  j["extensionsUsed"].push_back("KHR_materials_volume");
+  const GltfData g = loadGltf(writeGltf("volume.gltf", j));
+  EXPECT_TRUE(g.materials[3].absorbs());
+  EXPECT_EQ(g.materials[3].attenuationColor, vec3(0.9f, 0.5f, 0.1f));
+  EXPECT_FLOAT_EQ(g.materials[3].attenuationDistance, 0.5f);
+  EXPECT_FALSE(g.materials[0].absorbs());
+  EXPECT_FALSE(g.materials[0].unlit);
+  EXPECT_EQ(allWarnings(g).find("KHR_materials_volume"), std::string::npos) << allWarnings(g);
+  j["materials"][1]["extensions"]["KHR_materials_unlit"] = Json::object();
+  j["extensionsUsed"].push_back("KHR_materials_unlit");
+  const GltfData unlit = loadGltf(writeGltf("unlit.gltf", j));
+  EXPECT_TRUE(unlit.materials[1].unlit);
+  EXPECT_EQ(allWarnings(unlit).find("KHR_materials_unlit"), std::string::npos)
+      << allWarnings(unlit);
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationColor"] = {2, 0, 0};
+  expectSceneError([&] { loadGltf(writeGltf("colour.gltf", j)); },
+                   {"materials[3].extensions.KHR_materials_volume.attenuationColor", "at most 1"});
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationColor"] = {1, 1, 1};
+  j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = 0;
+  expectSceneError([&] { loadGltf(writeGltf("distance.gltf", j)); },
+                   {"KHR_materials_volume.attenuationDistance", "above 0"});
+}
+
+}  // namespace
+}  // namespace penumbra
