@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -146,6 +147,31 @@ int motionSegments(const std::vector<glm::mat4>& world, float radius) {
                               glm::length(vec3(d[2]))}) +
            glm::length(vec3(d[3]));
   });
+}
+
+mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t index) {
+  if (node.matrix.size() == 16) {
+    mat4 m;
+    for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = float(node.matrix[size_t(k)]);
+    return m;
+  }
+  if (!node.matrix.empty()) fail(path, indexed("nodes", index) + ".matrix", "expected 16 numbers");
+  mat4 t(1.0f), r(1.0f), s(1.0f);
+  if (node.translation.size() == 3)
+    t = glm::translate(mat4(1.0f), vec3(float(node.translation[0]), float(node.translation[1]),
+                                        float(node.translation[2])));
+  if (node.rotation.size() == 4) {
+    glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                float(node.rotation[2]));
+    const float length = glm::length(q);
+    if (!(length > 0.0f) || !std::isfinite(length))
+      fail(path, indexed("nodes", index) + ".rotation", "not a rotation quaternion");
+    r = glm::mat4_cast(q / length);
+  }
+  if (node.scale.size() == 3)
+    s = glm::scale(mat4(1.0f),
+                   vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
+  return t * r * s;
 }
 
 }  // namespace penumbra::gltf

@@ -80,4 +80,8 @@ int fewestSegments(int last, float tolerance, Error&& error) {
 // of every sample; `radius` is the object's, about its origin.
 int motionSegments(const std::vector<glm::mat4>& world, float radius);
 
+// A node's own transform: its `matrix`, else translation x rotation x scale. Throws SceneError
+// naming nodes[index] for a matrix of the wrong size or a rotation that is not a quaternion.
+mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t index);
+
 }  // namespace penumbra::gltf

@@ -20,7 +20,6 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 
@@ -39,33 +38,6 @@ namespace {
 
 using namespace gltf;
 namespace fs = std::filesystem;
-
-// ---- transforms -----------------------------------------------------------------------------
-
-mat4 localTransform(const std::string& path, const tinygltf::Node& node, size_t index) {
-  if (node.matrix.size() == 16) {
-    mat4 m;
-    for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = float(node.matrix[size_t(k)]);
-    return m;
-  }
-  if (!node.matrix.empty()) fail(path, indexed("nodes", index) + ".matrix", "expected 16 numbers");
-  mat4 t(1.0f), r(1.0f), s(1.0f);
-  if (node.translation.size() == 3)
-    t = glm::translate(mat4(1.0f), vec3(float(node.translation[0]), float(node.translation[1]),
-                                        float(node.translation[2])));
-  if (node.rotation.size() == 4) {
-    glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
-                float(node.rotation[2]));
-    const float length = glm::length(q);
-    if (!(length > 0.0f) || !std::isfinite(length))
-      fail(path, indexed("nodes", index) + ".rotation", "not a rotation quaternion");
-    r = glm::mat4_cast(q / length);
-  }
-  if (node.scale.size() == 3)
-    s = glm::scale(mat4(1.0f),
-                   vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
-  return t * r * s;
-}
 
 // ---- the conversion -------------------------------------------------------------------------
 
@@ -181,9 +153,9 @@ class Converter {
            e == "KHR_materials_specular" || e == "KHR_materials_clearcoat" ||
            e == "KHR_materials_ior" || e == "KHR_materials_volume" || e == "KHR_materials_unlit" ||
            e == "KHR_materials_sheen" || e == "KHR_materials_anisotropy" ||
-           e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
-           e == "KHR_mesh_quantization" || e == "EXT_mesh_gpu_instancing" || e == kWebpExtension ||
-           isMeshCompression(e);
+           e == "KHR_materials_pbrSpecularGlossiness" || e == "KHR_lights_punctual" ||
+           e == "KHR_texture_transform" || e == "KHR_mesh_quantization" ||
+           e == "EXT_mesh_gpu_instancing" || e == kWebpExtension || isMeshCompression(e);
   }
 
   void warn(const std::string& message) {
@@ -202,12 +174,13 @@ class Converter {
   // lookup; an image used twice the same way is converted once, and a texture used twice with
   // the same factor is one texture. -1 for coverage from an image without alpha.
   int texture(const tinygltf::TextureInfo& info, const std::string& where, Texels texels,
-              vec3 factor) {
-    return texture(info.index, info.texCoord, info.extensions, where, texels, factor);
+              vec3 factor, std::optional<vec3> offset = std::nullopt) {
+    return texture(info.index, info.texCoord, info.extensions, where, texels, factor, offset);
   }
 
   int texture(int index, int texCoord, const tinygltf::ExtensionMap& extensions,
-              const std::string& where, Texels texels, vec3 factor) {
+              const std::string& where, Texels texels, vec3 factor,
+              std::optional<vec3> offset = std::nullopt) {
     if (index < 0) return -1;
     if (size_t(index) >= model_.textures.size())
       fail(path_, where, "texture " + std::to_string(index) + " does not exist");
@@ -233,6 +206,8 @@ class Converter {
     Texture t;
     t.kind = Texture::Kind::Image;
     t.factor = factor;
+    t.hasOffset = offset.has_value();
+    t.offset = offset.value_or(vec3(0.0f));
     if (gltfTexture.sampler >= 0) {
       if (size_t(gltfTexture.sampler) >= model_.samplers.size())
         fail(path_, where, "sampler " + std::to_string(gltfTexture.sampler) + " does not exist");
@@ -244,11 +219,12 @@ class Converter {
     }
     textureTransform(path_, extensions, where, t, texCoord);
     materialUvSets_.push_back({where, texCoord});
-    const TextureKey key{source,
-                         int(texels),
-                         {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)),
-                          float(t.wrap.nearest), t.uvLinear[0][0], t.uvLinear[0][1],
-                          t.uvLinear[1][0], t.uvLinear[1][1], t.uvOffset.x, t.uvOffset.y}};
+    const TextureKey key{
+        source,
+        int(texels),
+        {factor.x, factor.y, factor.z, float(int(t.wrap.u)), float(int(t.wrap.v)),
+         float(t.wrap.nearest), t.uvLinear[0][0], t.uvLinear[0][1], t.uvLinear[1][0],
+         t.uvLinear[1][1], t.uvOffset.x, t.uvOffset.y, t.offset.x, t.offset.y, t.offset.z}};
     const auto known = textureIds_.find(key);
     if (known != textureIds_.end()) return known->second;
     const auto imageKey = std::make_pair(source, int(texels));
@@ -276,8 +252,10 @@ class Converter {
   }
 
   Material material(size_t index) {
-    const tinygltf::Material& m = model_.materials[index];
     const std::string where = indexed("materials", index);
+    gltf::Glossiness glossiness;
+    const tinygltf::Material m =
+        asMetallicRoughness(path_, model_.materials[index], where, glossiness);
     Material out;
     out.name = m.name.empty() ? where : m.name;
     out.type = Material::Type::Pbr;
@@ -303,6 +281,12 @@ class Converter {
     out.metallicRoughnessTexture =
         texture(pbr.metallicRoughnessTexture, where + ".metallicRoughnessTexture", Texels::Data,
                 vec3(1.0f));
+    // Specular-glossiness: roughness 1 - glossiness x the texture's alpha (metallic stays 0).
+    if (const gltf::Glossiness& g = glossiness; g.texture.index >= 0) {
+      out.metallicRoughnessTexture = texture(g.texture, where + ".specularGlossinessTexture",
+                                             Texels::Alpha, vec3(-g.factor), vec3(1.0f));
+      if (out.metallicRoughnessTexture >= 0) out.roughness = 1.0f;
+    }
     const auto layerTexture = [&](int index, int texCoord, const tinygltf::ExtensionMap& e,
                                   const std::string& field, Texels texels) {
       return texture(index, texCoord, e, field, texels, vec3(1.0f));
@@ -709,7 +693,7 @@ class Converter {
   std::vector<gltf::UvSetUse> materialUvSets_;  // the texture references of the material read
   std::vector<int> uvSets_;                     // per material, the uv set its textures read
   // A texture of ours: the image, its conversion, and its factor, wrap modes and uv transform.
-  using TextureKey = std::tuple<int, int, std::array<float, 12>>;
+  using TextureKey = std::tuple<int, int, std::array<float, 15>>;
   std::map<TextureKey, int> textureIds_;
   std::map<std::pair<int, int>, int> imageIds_;  // (source, texels) -> out_.images; -1: none
   int defaultMaterial_ = -1;

@@ -3,6 +3,7 @@
 #include "scene/gltf_accessors.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace penumbra::gltf {
@@ -134,6 +135,85 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
     }
   }
   return warnings;
+}
+
+namespace {
+
+// The texture reference `key` of an extension as tinygltf's (index -1 when absent); throws as
+// layerTexture does.
+tinygltf::TextureInfo textureInfo(const std::string& path, const tinygltf::Value& extension,
+                                  const char* key, const std::string& where) {
+  tinygltf::TextureInfo info;
+  if (!extension.Has(key)) return info;
+  const tinygltf::Value& v = extension.Get(key);
+  if (!v.IsObject() || !v.Has("index") || !v.Get("index").IsInt())
+    fail(path, where + "." + key, "must be a texture reference with an index");
+  info.index = v.Get("index").GetNumberAsInt();
+  if (v.Has("texCoord") && v.Get("texCoord").IsInt())
+    info.texCoord = v.Get("texCoord").GetNumberAsInt();
+  if (v.Has("extensions") && v.Get("extensions").IsObject())
+    for (const std::string& name : v.Get("extensions").Keys())
+      info.extensions[name] = v.Get("extensions").Get(name);
+  return info;
+}
+
+tinygltf::Value textureValue(const tinygltf::TextureInfo& info) {
+  tinygltf::Value::Object o;
+  o["index"] = tinygltf::Value(info.index);
+  o["texCoord"] = tinygltf::Value(info.texCoord);
+  if (!info.extensions.empty()) {
+    tinygltf::Value::Object e(info.extensions.begin(), info.extensions.end());
+    o["extensions"] = tinygltf::Value(std::move(e));
+  }
+  return tinygltf::Value(std::move(o));
+}
+
+}  // namespace
+
+tinygltf::Material asMetallicRoughness(const std::string& path, const tinygltf::Material& m,
+                                       const std::string& where, Glossiness& glossiness) {
+  const auto it = m.extensions.find("KHR_materials_pbrSpecularGlossiness");
+  if (it == m.extensions.end() || !it->second.IsObject()) return m;
+  const tinygltf::Value& e = it->second;
+  const std::string field = where + ".extensions.KHR_materials_pbrSpecularGlossiness";
+  vec3 specular(1.0f);
+  readColor(path, e, "specularFactor", field, 1.0f, specular);
+  glossiness.factor = unitFactor(e, "glossinessFactor", 1.0f);
+  glossiness.texture = textureInfo(path, e, "specularGlossinessTexture", field);
+  std::array<double, 4> diffuse{1, 1, 1, 1};
+  if (e.Has("diffuseFactor")) {
+    const tinygltf::Value& d = e.Get("diffuseFactor");
+    if (!d.IsArray() || d.ArrayLen() != 4)
+      fail(path, field + ".diffuseFactor", "must be an array of four numbers");
+    for (int k = 0; k < 4; ++k) {
+      diffuse[size_t(k)] = d.Get(k).IsNumber() ? d.Get(k).GetNumberAsDouble() : -1.0;
+      if (!(diffuse[size_t(k)] >= 0.0 && diffuse[size_t(k)] <= 1.0))
+        fail(path, field + ".diffuseFactor", "must hold four numbers in [0, 1]");
+    }
+  }
+  tinygltf::Material out = m;
+  out.extensions.erase("KHR_materials_pbrSpecularGlossiness");
+  // c_diff's 1 - max(specular), where the specular colour is the factor alone; under a
+  // specular texture it varies per texel (dielectrics' few percent, usually), and the diffuse
+  // colour is taken whole: the factor (1 by default) says nothing of it.
+  const double keep =
+      glossiness.texture.index >= 0 ? 1.0 : 1.0 - std::max({specular.x, specular.y, specular.z});
+  out.pbrMetallicRoughness.baseColorFactor = {diffuse[0] * keep, diffuse[1] * keep,
+                                              diffuse[2] * keep, diffuse[3]};
+  out.pbrMetallicRoughness.baseColorTexture = textureInfo(path, e, "diffuseTexture", field);
+  out.pbrMetallicRoughness.metallicFactor = 0.0;
+  out.pbrMetallicRoughness.roughnessFactor = 1.0 - glossiness.factor;
+  out.pbrMetallicRoughness.metallicRoughnessTexture = tinygltf::TextureInfo();
+  tinygltf::Value::Object layer;
+  layer["specularFactor"] = tinygltf::Value(1.0);
+  tinygltf::Value::Array colour;
+  for (int k = 0; k < 3; ++k) colour.push_back(tinygltf::Value(double(specular[k]) / 0.04));
+  layer["specularColorFactor"] = tinygltf::Value(std::move(colour));
+  if (glossiness.texture.index >= 0)
+    layer["specularColorTexture"] = textureValue(glossiness.texture);
+  out.extensions["KHR_materials_specular"] = tinygltf::Value(std::move(layer));
+  out.extensions.erase("KHR_materials_ior");
+  return out;
 }
 
 }  // namespace penumbra::gltf

@@ -35,4 +35,21 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
                                             const std::string& where, Material& out,
                                             const LayerTexture& texture);
 
+// glTF's archived KHR_materials_pbrSpecularGlossiness (older exporters', Sketchfab's among
+// them) when `m` has it: `m` rewritten as the metallic-roughness model with
+// KHR_materials_specular, which has the same BRDF (the specular colour as f0, the diffuse
+// colour under the same Fresnel mix): baseColorFactor the diffuse factor times
+// 1 - max(specularFactor) (the spec's c_diff; 1 under a specular texture), baseColorTexture the
+// diffuse texture, metallic 0, roughness 1 - glossiness, and specularColorFactor
+// specularFactor / 0.04 (f0 at ior 1.5 is 0.04) with specularGlossinessTexture as the colour
+// texture. A glossiness texture, which roughness reads as 1 - glossiness x texel, is left to
+// the caller: `glossiness` receives the reference (index -1: none) and the factor. Else `m`.
+// Throws SceneError naming the field for a malformed factor.
+struct Glossiness {
+  tinygltf::TextureInfo texture;
+  float factor = 1.0f;
+};
+tinygltf::Material asMetallicRoughness(const std::string& path, const tinygltf::Material& m,
+                                       const std::string& where, Glossiness& glossiness);
+
 }  // namespace penumbra::gltf

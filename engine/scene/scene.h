@@ -65,6 +65,10 @@ struct Texture {
   vec2 scale = vec2(1.0f);   // uv repetitions (checker cells / stripes per unit uv)
   int imageIndex = -1;       // Kind::Image: index into Scene::images
   vec3 factor = vec3(1.0f);  // Kind::Image: multiplies the texels at lookup (glTF's factors)
+  // Kind::Image, with hasOffset: added after the factor, offset + factor x texel (a glossiness
+  // map read as roughness, 1 - glossiness x texel).
+  bool hasOffset = false;
+  vec3 offset = vec3(0.0f);
   // Kind::Image: how uv outside [0, 1) reaches the image (glTF's sampler), and an affine map
   // of the surface's uv before the lookup, uv' = uvLinear uv + uvOffset (glTF's
   // KHR_texture_transform, in this engine's uv, whose v runs up the image).

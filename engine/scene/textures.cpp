@@ -21,12 +21,14 @@ vec3 evalTexture(const Scene& scene, const Texture& texture, glm::vec2 uv,
       return texture.color0;
     case Texture::Kind::Image: {
       const TextureImage& image = scene.images[size_t(texture.imageIndex)];
-      if (!texture.uvTransformed)
-        return texture.factor * sampleTexture(image, uv, footprint.dx, footprint.dy, texture.wrap);
-      // The footprint's derivatives go through the map's linear part.
-      return texture.factor * sampleTexture(image, textureUv(texture, uv),
-                                            texture.uvLinear * footprint.dx,
-                                            texture.uvLinear * footprint.dy, texture.wrap);
+      // The footprint's derivatives go through the uv map's linear part.
+      const vec3 value =
+          texture.factor *
+          (texture.uvTransformed
+               ? sampleTexture(image, textureUv(texture, uv), texture.uvLinear * footprint.dx,
+                               texture.uvLinear * footprint.dy, texture.wrap)
+               : sampleTexture(image, uv, footprint.dx, footprint.dy, texture.wrap));
+      return texture.hasOffset ? texture.offset + value : value;
     }
     case Texture::Kind::Checker: {
       const int cx = int(std::floor(uv.x * texture.scale.x));

@@ -79,7 +79,7 @@ const char* const kTriangleGlbJson =
 // texture (PNGs in data: URIs), a spot and a directional light, and an animation (linear
 // translation, step rotation).
 const char* const kFeaturesGltf =
-    R"(){"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1,2,3]}],"nodes":[{"mesh":0,"translation":[0,0,-1]},{"camera":0,"translation":[0,0,3]},{"translation":[0,2,0],"rotation":[-0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":0}}},{"extensions":{"KHR_lights_punctual":{"light":1}}}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1,"material":0}]}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0.5,"roughnessFactor":0.4},"normalTexture":{"index":1,"scale":0.8},"alphaMode":"MASK","alphaCutoff":0.5,"emissiveFactor":[1,1,1],"emissiveTexture":{"index":0},"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":2},"KHR_materials_transmission":{"transmissionFactor":0.3}}}],"textures":[{"source":0},{"source":1}],"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAYAAAD0In+KAAAAEElEQVR4nGP4zwAE/xn+AwAL/QL+6O7ISQAAAABJRU5ErkJggg=="},{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGNoOHECAAPcAhH5w/3PAAAAAElFTkSuQmCC"}],"extensionsUsed":["KHR_lights_punctual","KHR_materials_emissive_strength","KHR_materials_transmission"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"spot","intensity":5,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.5}},{"type":"directional","color":[1,0.9,0.8],"intensity":2}]}},"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":1,"target":{"node":0,"path":"rotation"}}],"samplers":[{"input":3,"output":4,"interpolation":"LINEAR"},{"input":3,"output":5,"interpolation":"STEP"}]}],"buffers":[{"byteLength":132,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAA9AQ1PwAAAAD0BDU/"}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6},{"buffer":0,"byteOffset":44,"byteLength":24},{"buffer":0,"byteOffset":68,"byteLength":8},{"buffer":0,"byteOffset":76,"byteLength":24},{"buffer":0,"byteOffset":100,"byteLength":32}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},{"bufferView":3,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":4,"componentType":5126,"count":2,"type":"VEC3"},{"bufferView":5,"componentType":5126,"count":2,"type":"VEC4"}]})";
+    R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1,2,3]}],"nodes":[{"mesh":0,"translation":[0,0,-1]},{"camera":0,"translation":[0,0,3]},{"translation":[0,2,0],"rotation":[-0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":0}}},{"extensions":{"KHR_lights_punctual":{"light":1}}}],"cameras":[{"type":"perspective","perspective":{"yfov":0.7,"znear":0.1}}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1,"material":0}]}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0.5,"roughnessFactor":0.4},"normalTexture":{"index":1,"scale":0.8},"alphaMode":"MASK","alphaCutoff":0.5,"emissiveFactor":[1,1,1],"emissiveTexture":{"index":0},"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":2},"KHR_materials_transmission":{"transmissionFactor":0.3}}}],"textures":[{"source":0},{"source":1}],"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAYAAAD0In+KAAAAEElEQVR4nGP4zwAE/xn+AwAL/QL+6O7ISQAAAABJRU5ErkJggg=="},{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGNoOHECAAPcAhH5w/3PAAAAAElFTkSuQmCC"}],"extensionsUsed":["KHR_lights_punctual","KHR_materials_emissive_strength","KHR_materials_transmission"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"spot","intensity":5,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.5}},{"type":"directional","color":[1,0.9,0.8],"intensity":2}]}},"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":1,"target":{"node":0,"path":"rotation"}}],"samplers":[{"input":3,"output":4,"interpolation":"LINEAR"},{"input":3,"output":5,"interpolation":"STEP"}]}],"buffers":[{"byteLength":132,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAA9AQ1PwAAAAD0BDU/"}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6},{"buffer":0,"byteOffset":44,"byteLength":24},{"buffer":0,"byteOffset":68,"byteLength":8},{"buffer":0,"byteOffset":76,"byteLength":24},{"buffer":0,"byteOffset":100,"byteLength":32}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},{"bufferView":3,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":4,"componentType":5126,"count":2,"type":"VEC3"},{"bufferView":5,"componentType":5126,"count":2,"type":"VEC4"}]})";
 
 std::string glbOf(std::string json, std::string bin) {
   while (json.size() % 4) json += ' ';
@@ -118,6 +118,38 @@ std::string webpTriangleGltf() {
   j["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
   j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   j["extensionsUsed"] = j["extensionsRequired"] = {"EXT_texture_webp"};
+  return j.dump();
+}
+
+// The features file with its material's layers: sheen, anisotropy, a transmission texture,
+// and a second material in the specular-glossiness model reading the second uv set.
+std::string layeredMaterialsGltf() {
+  nlohmann::json j = nlohmann::json::parse(kFeaturesGltf);
+  auto& e = j["materials"][0]["extensions"];
+  e["KHR_materials_sheen"] = {{"sheenColorFactor", {1, 0.5, 0.25}},
+                              {"sheenRoughnessFactor", 0.4},
+                              {"sheenColorTexture", {{"index", 0}}},
+                              {"sheenRoughnessTexture", {{"index", 1}}}};
+  e["KHR_materials_anisotropy"] = {{"anisotropyStrength", 0.7},
+                                   {"anisotropyRotation", 0.5},
+                                   {"anisotropyTexture", {{"index", 1}}}};
+  e["KHR_materials_transmission"]["transmissionTexture"] = {{"index", 1}};
+  j["materials"].push_back(
+      {{"extensions",
+        {{"KHR_materials_pbrSpecularGlossiness",
+          {{"diffuseFactor", {0.8, 0.6, 0.4, 1}},
+           {"specularFactor", {0.1, 0.1, 0.1}},
+           {"glossinessFactor", 0.6},
+           {"diffuseTexture", {{"index", 0}, {"texCoord", 1}}},
+           {"specularGlossinessTexture", {{"index", 0}, {"texCoord", 1}}}}}}}});
+  auto& primitive = j["meshes"][0]["primitives"][0];
+  nlohmann::json second = primitive;
+  second["material"] = 1;
+  second["attributes"]["TEXCOORD_1"] = primitive["attributes"]["TEXCOORD_0"];
+  j["meshes"][0]["primitives"].push_back(second);
+  for (const char* name :
+       {"KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_pbrSpecularGlossiness"})
+    j["extensionsUsed"].push_back(name);
   return j.dump();
 }
 
@@ -208,6 +240,7 @@ int main(int argc, char** argv) {
   writeBytes(root / "gltf" / "meshopt.glb", compressedTriangleGlb(false));
   writeBytes(root / "gltf" / "draco.glb", compressedTriangleGlb(true));
   writeBytes(root / "gltf" / "webp.gltf", webpTriangleGltf());
+  writeBytes(root / "gltf" / "layered.gltf", layeredMaterialsGltf());
 
   const Image image = gradient(4, 3);
   writeImage((root / "exr" / "gradient.exr").string(), image);

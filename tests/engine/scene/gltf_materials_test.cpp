@@ -1,9 +1,11 @@
 // glTF's material extensions through loadGltf, on the quad of gltf_test_files.h: the
 // dielectric base's specular layer, the clear coat, sheen, transmission's texture, anisotropy,
-// volume and unlit, with their textures read as colour, data or alpha, and errors naming the
+// volume, unlit and the archived specular-glossiness model, with their textures read as
+// colour, data or alpha, and errors naming the
 // malformed field. How they shade is tests/engine/scene/materials_test.cpp's and the
 // environment lighting tests'.
 #include "scene/gltf_io.h"
+#include "scene/textures.h"
 
 #include "tests/engine/scene/expect_scene_error.h"
 #include "tests/engine/scene/gltf_test_files.h"
@@ -196,6 +198,68 @@ TEST(Gltf, VolumeAndUnlitExtensionsAreRead) {
   j["materials"][3]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = 0;
   expectSceneError([&] { loadGltf(writeGltf("distance.gltf", j)); },
                    {"KHR_materials_volume.attenuationDistance", "above 0"});
+}
+
+TEST(Gltf, SpecularGlossinessBecomesMetallicRoughnessWithASpecularLayer) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][0] = {{"name", "old"},
+                       {"extensions",
+                        {{"KHR_materials_pbrSpecularGlossiness",
+                          {{"diffuseFactor", {0.8, 0.4, 0.2, 1.0}},
+                           {"specularFactor", {0.2, 0.1, 0.05}},
+                           {"glossinessFactor", 0.7}}}}}};
+  j["materials"][1] = {{"name", "textured"},
+                       {"alphaMode", "BLEND"},
+                       {"extensions",
+                        {{"KHR_materials_pbrSpecularGlossiness",
+                          {{"diffuseFactor", {1.0, 1.0, 1.0, 0.5}},
+                           {"diffuseTexture", {{"index", 0}}},
+                           {"glossinessFactor", 0.8},
+                           {"specularGlossinessTexture", {{"index", 1}}}}}}}};
+  // Image 1: the specular colour (sRGB) and the glossiness in alpha (204 = 0.8).
+  j["images"] = {{{"uri", pngUri(1, 1, 4, {255, 255, 255, 255})}},
+                 {{"uri", pngUri(1, 1, 4, {255, 188, 0, 204})}}};
+  j["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  j["extensionsUsed"].push_back("KHR_materials_pbrSpecularGlossiness");
+  const GltfData g = loadGltf(writeGltf("specgloss.gltf", j));
+  // The diffuse colour keeps 1 - max(specular) = 0.8 of itself under the specular layer, whose
+  // f0 (0.04 x specularColor at ior 1.5) is the specular factor.
+  const Material& old = g.materials[0];
+  EXPECT_EQ(old.type, Material::Type::Pbr);
+  EXPECT_NEAR(old.albedo.x, 0.64f, 1e-6f);
+  EXPECT_NEAR(old.albedo.z, 0.16f, 1e-6f);
+  EXPECT_EQ(old.metallic, 0.0f);
+  EXPECT_NEAR(old.roughness, 0.3f, 1e-6f);
+  EXPECT_FLOAT_EQ(old.specular, 1.0f);
+  EXPECT_NEAR(0.04f * old.specularColor.x, 0.2f, 1e-6f);
+  EXPECT_NEAR(0.04f * old.specularColor.z, 0.05f, 1e-6f);
+  EXPECT_LT(old.metallicRoughnessTexture, 0);
+  // Textured: the diffuse texture is the base colour's, the specular colour the layer's
+  // texture (sRGB), and roughness reads 1 - 0.8 x the alpha.
+  const Material& textured = g.materials[1];
+  EXPECT_EQ(textured.albedo, vec3(1.0f)) << "the specular texture varies: c_diff takes it whole";
+  EXPECT_TRUE(textured.alphaBlend);
+  EXPECT_FLOAT_EQ(textured.alpha, 0.5f);
+  ASSERT_GE(textured.albedoTexture, 0);
+  ASSERT_GE(textured.specularColorTexture, 0);
+  const Texture& colour = g.textures[size_t(textured.specularColorTexture)];
+  EXPECT_EQ(g.images[size_t(colour.imageIndex)].encoding, TexelEncoding::Srgb8);
+  Scene scene;
+  scene.images = g.images;
+  EXPECT_NEAR(evalTexture(scene, colour, vec2(0.5f), {}).y, 0.5f, 0.01f);
+  ASSERT_GE(textured.metallicRoughnessTexture, 0);
+  EXPECT_FLOAT_EQ(textured.roughness, 1.0f);
+  const vec3 rough =
+      evalTexture(scene, g.textures[size_t(textured.metallicRoughnessTexture)], vec2(0.5f), {});
+  EXPECT_NEAR(rough.y, 1.0f - 0.8f * 0.8f, 1e-6f);
+  const std::string all = allWarnings(g);
+  EXPECT_EQ(all.find("pbrSpecularGlossiness"), std::string::npos) << all;
+  j["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]["diffuseFactor"] = {1.0,
+                                                                                             2.0};
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[0].extensions.KHR_materials_pbrSpecularGlossiness.diffuseFactor"});
 }
 
 }  // namespace
