@@ -291,7 +291,7 @@ class Converter {
                                   const std::string& field, Texels texels) {
       return texture(index, texCoord, e, field, texels, vec3(1.0f));
     };
-    for (const std::string& w : readMaterialLayers(path_, m, where, out, layerTexture)) warn(w);
+    readMaterialLayers(path_, m, where, out, layerTexture);
     if (m.normalTexture.index >= 0) {
       out.normalTexture =
           texture(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,

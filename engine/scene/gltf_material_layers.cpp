@@ -55,10 +55,8 @@ int layerTexture(const std::string& path, const tinygltf::Value& extension, cons
 
 }  // namespace
 
-std::vector<std::string> readMaterialLayers(const std::string& path, const tinygltf::Material& m,
-                                            const std::string& where, Material& out,
-                                            const LayerTexture& texture) {
-  std::vector<std::string> warnings;
+void readMaterialLayers(const std::string& path, const tinygltf::Material& m,
+                        const std::string& where, Material& out, const LayerTexture& texture) {
   out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
   if (const auto it = m.extensions.find("KHR_materials_specular");
       it != m.extensions.end() && it->second.IsObject()) {
@@ -80,9 +78,14 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
     out.clearcoatTexture = layerTexture(path, e, "clearcoatTexture", field, Texels::Data, texture);
     out.clearcoatRoughnessTexture =
         layerTexture(path, e, "clearcoatRoughnessTexture", field, Texels::Data, texture);
-    if (e.Has("clearcoatNormalTexture"))
-      warnings.push_back(
-          where + ": clearcoatNormalTexture is not read (the coat takes the surface's normal)");
+    out.clearcoatNormalTexture =
+        layerTexture(path, e, "clearcoatNormalTexture", field, Texels::Data, texture);
+    if (out.clearcoatNormalTexture >= 0) {
+      const tinygltf::Value& info = e.Get("clearcoatNormalTexture");
+      if (info.Has("scale") && info.Get("scale").IsNumber() &&
+          std::isfinite(info.Get("scale").GetNumberAsDouble()))
+        out.clearcoatNormalScale = float(info.Get("scale").GetNumberAsDouble());
+    }
   }
   if (const auto it = m.extensions.find("KHR_materials_sheen");
       it != m.extensions.end() && it->second.IsObject()) {
@@ -134,7 +137,6 @@ std::vector<std::string> readMaterialLayers(const std::string& path, const tinyg
       }
     }
   }
-  return warnings;
 }
 
 namespace {

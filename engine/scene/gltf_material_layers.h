@@ -27,13 +27,11 @@ using LayerTexture =
 
 // Reads the extensions into `out` (Material::specular, specularColor, clearcoat,
 // clearcoatRoughness, sheenColor, sheenRoughness and their textures, converted by `texture`;
-// transmissionTexture; attenuationColor and
-// attenuationDistance; unlit); returns a warning for each texture that is not read (the
-// coat's normal map). Throws SceneError naming the file and the field for a malformed colour,
-// attenuation distance or texture reference.
-std::vector<std::string> readMaterialLayers(const std::string& path, const tinygltf::Material& m,
-                                            const std::string& where, Material& out,
-                                            const LayerTexture& texture);
+// transmissionTexture; the coat's normal map and its scale; attenuationColor and
+// attenuationDistance; unlit; anisotropy). Throws SceneError naming the file and the field for a
+// malformed colour, attenuation distance or texture reference.
+void readMaterialLayers(const std::string& path, const tinygltf::Material& m,
+                        const std::string& where, Material& out, const LayerTexture& texture);
 
 // glTF's archived KHR_materials_pbrSpecularGlossiness (older exporters', Sketchfab's among
 // them) when `m` has it: `m` rewritten as the metallic-roughness model with

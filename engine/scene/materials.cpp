@@ -121,6 +121,25 @@ float coatPdf(const SurfaceBsdf& b, vec3 wo, vec3 h) {
   return ggxD(h, b.coatAlpha) * h.z / (4.0f * std::abs(glm::dot(wo, h)));
 }
 
+// wo and wi in the coat's own frame (SurfaceBsdf::coatFrame), for a coat that has one.
+struct CoatView {
+  vec3 wo, wi;
+};
+
+// The coat's lobe, f cos, and its pdf, in its own frame: nothing unless wo and wi lie on one
+// side of it (both mirrored to the upper side when below, as evalLocal does).
+float coatLobeIn(const SurfaceBsdf& b, CoatView v) {
+  if (v.wo.z * v.wi.z <= 0) return 0.0f;
+  if (v.wo.z < 0) v.wo.z = -v.wo.z, v.wi.z = -v.wi.z;
+  return coatLobe(b, v.wo, v.wi, glm::normalize(v.wo + v.wi));
+}
+
+float coatPdfIn(const SurfaceBsdf& b, CoatView v) {
+  if (v.wo.z * v.wi.z <= 0) return 0.0f;
+  if (v.wo.z < 0) v.wo.z = -v.wo.z, v.wi.z = -v.wi.z;
+  return coatPdf(b, v.wo, glm::normalize(v.wo + v.wi));
+}
+
 float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const float s = baseSpecularChance(b, wo);
   return (1.0f - s) * wi.z * kInvPi + s * conductorPdf(b, wo, wi);
@@ -145,7 +164,7 @@ float sheenChance(const SurfaceBsdf& b, vec3 wo) {
 
 // Local-space (n = +z) helpers. Diffuse and conductor are two-sided: wo below the
 // surface is handled by mirroring both directions to the upper side.
-vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi, const CoatView* coatView = nullptr) {
   if (wo.z * wi.z <= 0) return vec3(0.0f);  // transmission is never non-specular here
   if (wo.z < 0) {
     wo.z = -wo.z;
@@ -165,7 +184,8 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       if (b.coat > 0) {
         const vec3 h = glm::normalize(wo + wi);
         const float c = b.coat * coatFresnel(glm::dot(wo, h));
-        f = (1.0f - c) * f + vec3(c * coatLobe(b, wo, wi, h));
+        f = (1.0f - c) * f +
+            vec3(c * (coatView ? coatLobeIn(b, *coatView) : coatLobe(b, wo, wi, h)));
       }
       return f;
     }
@@ -174,7 +194,7 @@ vec3 evalLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   }
 }
 
-float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
+float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi, const CoatView* coatView = nullptr) {
   if (wo.z * wi.z <= 0) return 0;
   if (wo.z < 0) {
     wo.z = -wo.z;
@@ -195,7 +215,8 @@ float pdfLocal(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
       }
       if (b.coat > 0) {
         const float c = coatChance(b, wo);
-        pdf = (1.0f - c) * pdf + c * coatPdf(b, wo, glm::normalize(wo + wi));
+        pdf = (1.0f - c) * pdf +
+              c * (coatView ? coatPdfIn(b, *coatView) : coatPdf(b, wo, glm::normalize(wo + wi)));
       }
       return pdf;
     }
@@ -374,11 +395,15 @@ float fresnelDielectric(float cosThetaI, float eta) {
 vec3 evalBsdfCos(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   // Reject light leaks: reflection must stay on one side of the geometric surface too.
   if (glm::dot(wo, b.geometricNormal) * glm::dot(wi, b.geometricNormal) <= 0) return vec3(0.0f);
-  return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+  if (!b.coatHasOwnFrame) return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+  const CoatView coat{b.coatFrame.toLocal(wo), b.coatFrame.toLocal(wi)};
+  return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), &coat);
 }
 
 float bsdfPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
-  return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+  if (!b.coatHasOwnFrame) return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
+  const CoatView coat{b.coatFrame.toLocal(wo), b.coatFrame.toLocal(wi)};
+  return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), &coat);
 }
 
 bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfSample& out) {
@@ -412,6 +437,15 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       const float coat = coatChance(b, vec3(wo.x, wo.y, std::abs(wo.z)));
       if (coat > 0) {
         if (uc < coat) {
+          if (b.coatHasOwnFrame) {
+            // Reflected about a microfacet of the coat's own frame, then seen in the base's.
+            const vec3 cwo = b.coatFrame.toLocal(woWorld);
+            const vec3 h = sampleGgxHalfVector(b.coatAlpha, u, cwo.z > 0 ? 1.0f : -1.0f);
+            const vec3 cwi = 2.0f * glm::dot(cwo, h) * h - cwo;
+            if (cwi.z * cwo.z <= 0) return false;
+            wi = b.frame.toLocal(b.coatFrame.toWorld(cwi));
+            break;
+          }
           const vec3 h = sampleGgxHalfVector(b.coatAlpha, u, side);
           wi = 2.0f * glm::dot(wo, h) * h - wo;
           if (wi.z * wo.z <= 0) return false;
@@ -458,10 +492,13 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       break;  // weighted by the mix's f / pdf below: one-sample MIS over the parts
     }
   }
-  const vec3 f = evalLocal(b, wo, wi);
-  const float pdf = pdfLocal(b, wo, wi);
-  if (!(pdf > 0)) return false;
   out.wi = b.frame.toWorld(wi);
+  CoatView coatView;
+  if (b.coatHasOwnFrame) coatView = {b.coatFrame.toLocal(woWorld), b.coatFrame.toLocal(out.wi)};
+  const CoatView* coatFrame = b.coatHasOwnFrame ? &coatView : nullptr;
+  const vec3 f = evalLocal(b, wo, wi, coatFrame);
+  const float pdf = pdfLocal(b, wo, wi, coatFrame);
+  if (!(pdf > 0)) return false;
   if (glm::dot(woWorld, b.geometricNormal) * glm::dot(out.wi, b.geometricNormal) <= 0) return false;
   out.weight = f / pdf;
   out.pdf = pdf;

@@ -33,8 +33,12 @@ struct SurfaceBsdf {
   vec3 specularColor = vec3(1.0f);  // and its tint at normal incidence
   float coat = 0.0f;                // Pbr: the clear coat's weight (0: none)
   float coatAlpha = 1e-3f;          // and its GGX alpha
-  vec3 sheen = vec3(0.0f);          // Pbr: the sheen layer's colour (black: none)
-  float sheenAlpha = 0.25f;         // and its Charlie alpha, in [kMinSheenAlpha, 1]
+  // Pbr: the coat's own frame (glTF's clearcoatNormalTexture, or the interpolated normal under
+  // a normal-mapped base), when coatHasOwnFrame; else the coat lies in `frame`.
+  bool coatHasOwnFrame = false;
+  ShadingFrame coatFrame;
+  vec3 sheen = vec3(0.0f);   // Pbr: the sheen layer's colour (black: none)
+  float sheenAlpha = 0.25f;  // and its Charlie alpha, in [kMinSheenAlpha, 1]
   // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
   // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
   // specular).

@@ -103,6 +103,10 @@ struct Material {
   float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
   int clearcoatTexture = -1;           // weight x red (linear data)
   int clearcoatRoughnessTexture = -1;  // roughness x green (linear data)
+  // The coat's own tangent-space normal map (as normalTexture, with its scale); without it the
+  // coat takes the interpolated normal, whatever maps the base (glTF's clearcoatNormalTexture).
+  int clearcoatNormalTexture = -1;
+  float clearcoatNormalScale = 1.0f;
   // Pbr: glTF's KHR_materials_sheen: a layer of fibres over the whole material (under the coat)
   // that reflects sheenColor by the Charlie distribution of alpha sheenRoughness^2, and takes
   // from the material below what it reflects (glTF's albedo scaling). Black: none.
@@ -138,8 +142,16 @@ struct Material {
   // Blended (glTF's BLEND): the coverage is the chance that a ray stops at the surface, decided
   // per ray (stochastic transparency), instead of a cutoff.
   bool alphaBlend = false;
-  // Whether its hits need their tangent frame (SurfaceHit::tangent): a normal map or anisotropy.
-  bool needsTangents() const { return normalTexture >= 0 || anisotropyStrength > 0; }
+  // Whether its hits need their tangent frame: a normal map (the base's or the coat's) or
+  // anisotropy.
+  bool needsTangents() const {
+    return normalTexture >= 0 || anisotropyStrength > 0 || clearcoatNormalTexture >= 0;
+  }
+  // Whether its coat has a normal of its own, apart from the shading normal: a coat over a
+  // normal-mapped base, or with its own map.
+  bool coatHasOwnNormal() const {
+    return clearcoat > 0 && (normalTexture >= 0 || clearcoatNormalTexture >= 0);
+  }
   bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   bool hasCutouts() const { return alphaCutoff >= 0.0f || alphaBlend; }
   bool absorbs() const {
@@ -148,7 +160,7 @@ struct Material {
            attenuationColor != vec3(1.0f);
   }
   // Every texture id of the material (-1 where it has none).
-  std::array<int*, 13> textureIds() {
+  std::array<int*, 14> textureIds() {
     return {&albedoTexture,
             &metallicRoughnessTexture,
             &emissionTexture,
@@ -161,7 +173,8 @@ struct Material {
             &sheenColorTexture,
             &sheenRoughnessTexture,
             &transmissionTexture,
-            &anisotropyTexture};
+            &anisotropyTexture,
+            &clearcoatNormalTexture};
   }
   // Whether its surface reads a texture when shaded (cut-outs are Embree's): its hits need
   // their uv footprint.
@@ -169,7 +182,8 @@ struct Material {
     return albedoTexture >= 0 || metallicRoughnessTexture >= 0 || emissionTexture >= 0 ||
            normalTexture >= 0 || specularTexture >= 0 || specularColorTexture >= 0 ||
            clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0 || sheenColorTexture >= 0 ||
-           sheenRoughnessTexture >= 0 || transmissionTexture >= 0 || anisotropyTexture >= 0;
+           sheenRoughnessTexture >= 0 || transmissionTexture >= 0 || anisotropyTexture >= 0 ||
+           clearcoatNormalTexture >= 0;
   }
 };
 

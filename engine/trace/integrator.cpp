@@ -99,6 +99,10 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
   if (m.clearcoatRoughnessTexture >= 0) coatRoughness *= texel(m.clearcoatRoughnessTexture).y;
   b.coatAlpha = std::clamp(coatRoughness * coatRoughness, 1e-3f, 1.0f);
   if (!b.anisotropic) b.frame = makeFrame(s.shadingNormal);
+  if (b.coat > 0 && s.coatNormal != vec3(0.0f) && s.coatNormal != s.shadingNormal) {
+    b.coatFrame = makeFrame(s.coatNormal);
+    b.coatHasOwnFrame = true;
+  }
   b.geometricNormal = s.geometricNormal;
   return b;
 }
@@ -187,19 +191,18 @@ bool hitTangentFrame(const Mesh& mesh, const uint32_t* idx, const Hit& hit, vec3
   return true;
 }
 
-// Tilts the shading normal by a tangent-space normal map read in the frame (t, b); the map's +y
-// runs along +v (up the image: OpenGL's and glTF's convention).
-void applyNormalMap(const Scene& scene, const Material& material, vec3 t, vec3 b, SurfaceHit& s) {
-  const vec3 n = s.shadingNormal;
+// The normal n tilted by the tangent-space normal map `texture` (its x and y scaled by
+// `scale`) read in the frame (t, b); the map's +y runs along +v (up the image: OpenGL's and
+// glTF's convention). A map pointing under the surface (or a broken texel) leaves n as it is.
+vec3 mappedNormal(const Scene& scene, int texture, float scale, vec3 n, vec3 t, vec3 b,
+                  const SurfaceHit& s) {
   vec3 c =
-      2.0f * evalTexture(scene, scene.textures[size_t(material.normalTexture)], s.uv, s.footprint) -
-      vec3(1.0f);
-  c.x *= material.normalScale;
-  c.y *= material.normalScale;
+      2.0f * evalTexture(scene, scene.textures[size_t(texture)], s.uv, s.footprint) - vec3(1.0f);
+  c.x *= scale;
+  c.y *= scale;
   const vec3 mapped = c.x * t + c.y * b + c.z * n;
   const float length = glm::length(mapped);
-  // A map pointing under the surface (or a broken texel) keeps the normal it had.
-  if (length > 1e-6f && glm::dot(mapped, s.geometricNormal) > 0) s.shadingNormal = mapped / length;
+  return length > 1e-6f && glm::dot(mapped, s.geometricNormal) > 0 ? mapped / length : n;
 }
 
 // The hit's tangent frame made orthonormal around its (possibly mapped) shading normal, for
@@ -324,7 +327,15 @@ SurfaceHit surfaceAt(const Scene& scene, const Hit& hit, float time,
     s.footprint = uvFootprint(dpdx, dpdy, dpdu, dpdv);
   vec3 t, b;
   if (!material.needsTangents() || !hitTangentFrame(mesh, idx, hit, dpdu, dpdv, s, t, b)) return s;
-  if (material.normalTexture >= 0) applyNormalMap(scene, material, t, b, s);
+  const vec3 interpolated = s.shadingNormal;
+  if (material.normalTexture >= 0)
+    s.shadingNormal =
+        mappedNormal(scene, material.normalTexture, material.normalScale, interpolated, t, b, s);
+  if (material.coatHasOwnNormal())
+    s.coatNormal = material.clearcoatNormalTexture >= 0
+                       ? mappedNormal(scene, material.clearcoatNormalTexture,
+                                      material.clearcoatNormalScale, interpolated, t, b, s)
+                       : interpolated;
   if (material.anisotropyStrength > 0) keepTangentFrame(t, b, s);
   return s;
 }

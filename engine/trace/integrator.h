@@ -89,6 +89,9 @@ struct SurfaceHit {
   // Of a material that is anisotropic (Material::needsTangents): the tangent frame's +u and +v
   // directions, orthonormal around shadingNormal; zero without.
   vec3 tangent{0.0f}, bitangent{0.0f};
+  // Of a material whose coat has a normal of its own (Material::coatHasOwnNormal): that
+  // normal, unit, on the side of geometricNormal; zero without.
+  vec3 coatNormal{0.0f};
   uint32_t materialId = 0;
 };
 // Asks the cache for what surfaceAt(hit) will read: the triangle's vertices' positions,

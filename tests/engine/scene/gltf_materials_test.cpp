@@ -71,7 +71,7 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
       {"clearcoatRoughnessFactor", 0.2},
       {"clearcoatTexture", {{"index", 0}}},
       {"clearcoatRoughnessTexture", {{"index", 0}}},
-      {"clearcoatNormalTexture", {{"index", 0}}}};
+      {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}};
   // The weight in red, the roughness in green: linear data.
   j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
   j["textures"] = {{{"source", 0}}};
@@ -88,7 +88,10 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_NEAR(textureTexel(coat, 0, 0, 0).x, 0.2f, 1e-6f);
   EXPECT_NEAR(textureTexel(coat, 0, 0, 0).y, 0.4f, 1e-6f);
   const std::string all = allWarnings(g);
-  EXPECT_NE(all.find("materials[1]: clearcoatNormalTexture is not read"), std::string::npos) << all;
+  EXPECT_EQ(m.clearcoatNormalTexture, m.clearcoatTexture) << "one image read as data";
+  EXPECT_FLOAT_EQ(m.clearcoatNormalScale, 0.5f);
+  EXPECT_TRUE(m.coatHasOwnNormal());
+  EXPECT_EQ(all.find("is not read"), std::string::npos) << all;
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }
 

@@ -220,5 +220,53 @@ TEST(Anisotropy, TheLobeIsWiderAlongTheRougherAxis) {
   EXPECT_NEAR(evalBsdfCos(even, wo, towardsX).x, evalBsdfCos(even, wo, towardsY).x, 1e-5f);
 }
 
+// A black Pbr surface facing +z without a specular layer, under a smooth coat whose own normal
+// is tilted 10 degrees towards +x.
+SurfaceBsdf tiltedCoat() {
+  SurfaceBsdf b = sheenSurface(vec3(0.0f), 0.5f);
+  b.sheen = vec3(0.0f);
+  b.coat = 1.0f;
+  b.coatAlpha = 0.05f;
+  b.coatHasOwnFrame = true;
+  b.coatFrame = makeFrame(direction(std::cos(0.1745329f), 0.0f));
+  return b;
+}
+
+TEST(Coat, ACoatWithItsOwnNormalReflectsAboutIt) {
+  // Seen straight on, the coat's mirror direction is 20 degrees towards +x, not the normal.
+  const SurfaceBsdf b = tiltedCoat();
+  const vec3 wo(0, 0, 1), mirror = direction(std::cos(0.3490659f), 0.0f);
+  EXPECT_GT(evalBsdfCos(b, wo, mirror).x, 100 * evalBsdfCos(b, wo, direction(0.999f, 0.0f)).x);
+  SurfaceBsdf flat = b;
+  flat.coatHasOwnFrame = false;
+  EXPECT_LT(evalBsdfCos(flat, wo, mirror).x, 1e-2f * evalBsdfCos(b, wo, mirror).x);
+}
+
+TEST(Coat, SamplingInTheCoatsOwnFrameDrawsWhatEvaluationAndThePdfSay) {
+  SurfaceBsdf b = tiltedCoat();
+  b.color = vec3(0.6f);
+  b.specular = 1.0f;
+  b.coatAlpha = 0.2f;
+  Pcg32 rng;
+  rng.seedWith(3, 5);
+  for (float cosO : {0.4f, 0.9f}) {
+    const vec3 wo = direction(cosO, 2.0f);
+    const double expected =
+        hemisphereIntegral([&](vec3 wi) { return evalBsdfCos(b, wo, wi).x; }, 1000);
+    constexpr int kSamples = 400000;
+    double sum = 0;
+    for (int i = 0; i < kSamples; ++i) {
+      BsdfSample s;
+      const glm::vec2 u(rng.nextFloat(), rng.nextFloat());
+      if (!sampleBsdf(b, wo, u, rng.nextFloat(), s)) continue;
+      const float pdf = bsdfPdf(b, wo, s.wi);
+      ASSERT_NEAR(s.pdf, pdf, 1e-4f * pdf);
+      ASSERT_NEAR(s.weight.x, evalBsdfCos(b, wo, s.wi).x / pdf, 1e-3f * s.weight.x + 1e-6f);
+      sum += s.weight.x;
+    }
+    EXPECT_NEAR(sum / kSamples, expected, 0.01 * expected) << "cos " << cosO;
+  }
+}
+
 }  // namespace
 }  // namespace penumbra

@@ -362,6 +362,36 @@ TEST(Integrator, NormalMapsTiltTheShadingNormalInTheTangentFrame) {
   }
 }
 
+TEST(Integrator, TheCoatTakesItsOwnNormalMapAndNotTheBases) {
+  // One texel tilting by 0.5 rad towards +u, two textures reading it: the base's normal map, the
+  // coat's (scaled by -1: towards -u), or both.
+  const float s = std::sin(0.5f), c = std::cos(0.5f);
+  const auto normals = [&](bool baseMapped, bool coatMapped) {
+    Scene scene = texturedQuad(R"({"type": "pbr"})", {0.5f * vec3(s, 0, c) + vec3(0.5f)}, 1);
+    Material& m = scene.materials[0];
+    m.clearcoat = 1.0f;
+    if (baseMapped) m.normalTexture = 0;
+    if (coatMapped) m.clearcoatNormalTexture = 0, m.clearcoatNormalScale = -1.0f;
+    const auto prepared = prepareScene(std::move(scene));
+    Hit hit;
+    EXPECT_TRUE(
+        prepared->accel->intersect(Ray{vec3(0.3f, 0.2f, 5), vec3(0, 0, -1), 0}, 0, 100, hit));
+    return surfaceAt(prepared->scene, hit, 0.0f);
+  };
+  // Under a mapped base, a coat without its own map keeps the interpolated normal (glTF).
+  SurfaceHit hit = normals(true, false);
+  EXPECT_NEAR(hit.shadingNormal.x, s, 1e-2f);
+  test::expectNear(hit.coatNormal, vec3(0, 0, 1), 1e-6f);
+  // Its own map tilts it, whatever the base does.
+  for (const bool base : {false, true}) {
+    hit = normals(base, true);
+    test::expectNear(hit.coatNormal, glm::normalize(vec3(-s, 0, c)), 1e-2f);
+    EXPECT_NEAR(hit.shadingNormal.x, base ? s : 0.0f, 1e-2f);
+  }
+  // Neither mapped: the coat lies in the shading frame, and no normal of its own is kept.
+  EXPECT_EQ(normals(false, false).coatNormal, vec3(0.0f));
+}
+
 TEST(Integrator, NormalMapsFollowTheVertexTangentsAcrossEdges) {
   // Two triangles sharing the edge x + y = 1, whose dp/du differ by 18 degrees (the second's
   // uvs are sheared); a map tilting every normal by 0.5 rad towards +u.
