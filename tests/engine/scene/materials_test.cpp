@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <utility>
 
 namespace penumbra {
@@ -39,6 +40,27 @@ double hemisphereIntegral(FCos&& fCos, int n = 600) {
 double bruteForceSheenAlbedo(float cosO, float alpha) {
   const vec3 wo = direction(cosO, 0.0f);
   return hemisphereIntegral([&](vec3 wi) { return double(sheenLobe(wo, wi, alpha)) * wi.z; }, 600);
+}
+
+// Draws directions from `b` seen from wo: every sample is non-specular, its pdf is bsdfPdf's
+// and its weight f cos / pdf, and the mean weight (the albedo by sampling) matches the
+// integral of f cos over the hemisphere (an n x n quadrature).
+void expectSamplingMatchesEvaluation(const SurfaceBsdf& b, vec3 wo, Pcg32& rng, int n,
+                                     const std::string& label) {
+  const double expected = hemisphereIntegral([&](vec3 wi) { return evalBsdfCos(b, wo, wi).x; }, n);
+  constexpr int kSamples = 400000;
+  double sum = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    BsdfSample s;
+    const glm::vec2 u(rng.nextFloat(), rng.nextFloat());
+    if (!sampleBsdf(b, wo, u, rng.nextFloat(), s)) continue;
+    ASSERT_FALSE(s.specular) << label;
+    const float pdf = bsdfPdf(b, wo, s.wi);
+    ASSERT_NEAR(s.pdf, pdf, 1e-4f * pdf) << label;
+    ASSERT_NEAR(s.weight.x, evalBsdfCos(b, wo, s.wi).x / pdf, 1e-3f * s.weight.x + 1e-6f) << label;
+    sum += s.weight.x;
+  }
+  EXPECT_NEAR(sum / kSamples, expected, 0.01 * expected) << label;
 }
 
 // A Pbr surface facing +z: black and without a specular layer unless `base` says otherwise.
@@ -94,23 +116,9 @@ TEST(Sheen, SamplingDrawsWhatEvaluationAndThePdfSay) {
   b.coatAlpha = 0.04f;
   Pcg32 rng;
   rng.seedWith(7, 3);
-  for (float cosO : {0.15f, 0.5f, 0.95f}) {
-    const vec3 wo = direction(cosO, 1.0f);
-    const double expected = hemisphereIntegral([&](vec3 wi) { return evalBsdfCos(b, wo, wi).x; });
-    constexpr int kSamples = 400000;
-    double sum = 0;
-    for (int i = 0; i < kSamples; ++i) {
-      BsdfSample s;
-      const glm::vec2 u(rng.nextFloat(), rng.nextFloat());
-      if (!sampleBsdf(b, wo, u, rng.nextFloat(), s)) continue;
-      ASSERT_FALSE(s.specular);
-      const float pdf = bsdfPdf(b, wo, s.wi);
-      ASSERT_NEAR(s.pdf, pdf, 1e-4f * pdf);
-      ASSERT_NEAR(s.weight.x, evalBsdfCos(b, wo, s.wi).x / pdf, 1e-3f * s.weight.x + 1e-6f);
-      sum += s.weight.x;
-    }
-    EXPECT_NEAR(sum / kSamples, expected, 0.01 * expected) << "cos " << cosO;
-  }
+  for (float cosO : {0.15f, 0.5f, 0.95f})
+    expectSamplingMatchesEvaluation(b, direction(cosO, 1.0f), rng, 600,
+                                    "cos " + std::to_string(cosO));
 }
 
 TEST(Sheen, AWhiteMaterialUnderWhiteSheenReflectsNoMoreThanItReceives) {
@@ -184,24 +192,10 @@ TEST(Anisotropy, SamplingDrawsWhatEvaluationAndThePdfSay) {
   rng.seedWith(5, 9);
   for (float metallic : {1.0f, 0.0f}) {
     const SurfaceBsdf b = anisotropicSurface(0.25f, 0.6f, metallic);
-    for (float cosO : {0.3f, 0.8f}) {
-      const vec3 wo = direction(cosO, 0.7f);
-      const double expected =
-          hemisphereIntegral([&](vec3 wi) { return evalBsdfCos(b, wo, wi).x; }, 1000);
-      constexpr int kSamples = 400000;
-      double sum = 0;
-      for (int i = 0; i < kSamples; ++i) {
-        BsdfSample s;
-        const glm::vec2 u(rng.nextFloat(), rng.nextFloat());
-        if (!sampleBsdf(b, wo, u, rng.nextFloat(), s)) continue;
-        const float pdf = bsdfPdf(b, wo, s.wi);
-        ASSERT_NEAR(s.pdf, pdf, 1e-4f * pdf);
-        ASSERT_NEAR(s.weight.x, evalBsdfCos(b, wo, s.wi).x / pdf, 1e-3f * s.weight.x + 1e-6f);
-        sum += s.weight.x;
-      }
-      EXPECT_NEAR(sum / kSamples, expected, 0.01 * expected)
-          << "metallic " << metallic << ", cos " << cosO;
-    }
+    for (float cosO : {0.3f, 0.8f})
+      expectSamplingMatchesEvaluation(
+          b, direction(cosO, 0.7f), rng, 1000,
+          "metallic " + std::to_string(metallic) + ", cos " + std::to_string(cosO));
   }
 }
 
@@ -249,23 +243,9 @@ TEST(Coat, SamplingInTheCoatsOwnFrameDrawsWhatEvaluationAndThePdfSay) {
   b.coatAlpha = 0.2f;
   Pcg32 rng;
   rng.seedWith(3, 5);
-  for (float cosO : {0.4f, 0.9f}) {
-    const vec3 wo = direction(cosO, 2.0f);
-    const double expected =
-        hemisphereIntegral([&](vec3 wi) { return evalBsdfCos(b, wo, wi).x; }, 1000);
-    constexpr int kSamples = 400000;
-    double sum = 0;
-    for (int i = 0; i < kSamples; ++i) {
-      BsdfSample s;
-      const glm::vec2 u(rng.nextFloat(), rng.nextFloat());
-      if (!sampleBsdf(b, wo, u, rng.nextFloat(), s)) continue;
-      const float pdf = bsdfPdf(b, wo, s.wi);
-      ASSERT_NEAR(s.pdf, pdf, 1e-4f * pdf);
-      ASSERT_NEAR(s.weight.x, evalBsdfCos(b, wo, s.wi).x / pdf, 1e-3f * s.weight.x + 1e-6f);
-      sum += s.weight.x;
-    }
-    EXPECT_NEAR(sum / kSamples, expected, 0.01 * expected) << "cos " << cosO;
-  }
+  for (float cosO : {0.4f, 0.9f})
+    expectSamplingMatchesEvaluation(b, direction(cosO, 2.0f), rng, 1000,
+                                    "cos " + std::to_string(cosO));
 }
 
 }  // namespace
