@@ -140,6 +140,14 @@ float coatPdfIn(const SurfaceBsdf& b, CoatView v) {
   return coatPdf(b, v.wo, glm::normalize(v.wo + v.wi));
 }
 
+// wo and wi (world) in the coat's own frame, into `view`, when the coat has one; else null (the
+// coat lies in the base's frame).
+const CoatView* coatViewOf(const SurfaceBsdf& b, vec3 wo, vec3 wi, CoatView& view) {
+  if (!b.coatHasOwnFrame) return nullptr;
+  view = {b.coatFrame.toLocal(wo), b.coatFrame.toLocal(wi)};
+  return &view;
+}
+
 float basePdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   const float s = baseSpecularChance(b, wo);
   return (1.0f - s) * wi.z * kInvPi + s * conductorPdf(b, wo, wi);
@@ -395,15 +403,13 @@ float fresnelDielectric(float cosThetaI, float eta) {
 vec3 evalBsdfCos(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
   // Reject light leaks: reflection must stay on one side of the geometric surface too.
   if (glm::dot(wo, b.geometricNormal) * glm::dot(wi, b.geometricNormal) <= 0) return vec3(0.0f);
-  if (!b.coatHasOwnFrame) return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
-  const CoatView coat{b.coatFrame.toLocal(wo), b.coatFrame.toLocal(wi)};
-  return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), &coat);
+  CoatView coat;
+  return evalLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), coatViewOf(b, wo, wi, coat));
 }
 
 float bsdfPdf(const SurfaceBsdf& b, vec3 wo, vec3 wi) {
-  if (!b.coatHasOwnFrame) return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi));
-  const CoatView coat{b.coatFrame.toLocal(wo), b.coatFrame.toLocal(wi)};
-  return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), &coat);
+  CoatView coat;
+  return pdfLocal(b, b.frame.toLocal(wo), b.frame.toLocal(wi), coatViewOf(b, wo, wi, coat));
 }
 
 bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfSample& out) {
@@ -493,11 +499,10 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
     }
   }
   out.wi = b.frame.toWorld(wi);
-  CoatView coatView;
-  if (b.coatHasOwnFrame) coatView = {b.coatFrame.toLocal(woWorld), b.coatFrame.toLocal(out.wi)};
-  const CoatView* coatFrame = b.coatHasOwnFrame ? &coatView : nullptr;
-  const vec3 f = evalLocal(b, wo, wi, coatFrame);
-  const float pdf = pdfLocal(b, wo, wi, coatFrame);
+  CoatView coat;
+  const CoatView* coatView = coatViewOf(b, woWorld, out.wi, coat);
+  const vec3 f = evalLocal(b, wo, wi, coatView);
+  const float pdf = pdfLocal(b, wo, wi, coatView);
   if (!(pdf > 0)) return false;
   if (glm::dot(woWorld, b.geometricNormal) * glm::dot(out.wi, b.geometricNormal) <= 0) return false;
   out.weight = f / pdf;
