@@ -53,7 +53,7 @@ void addSceneOptions(CLI::App& c, SceneOptions& o) {
       ->check(CLI::Range(0, 1024));
   c.add_option("--camera", o.camera,
                "glTF scenes: view through the camera of this node or camera name (default: the "
-               "first perspective camera; the flags below still override it)");
+               "first camera; the flags below still override it)");
   c.add_option("--frame-time", o.frameTime,
                "glTF scenes: seconds into the animation at which the shutter opens (default: the "
                "animation's start)")
@@ -155,7 +155,10 @@ Scene loadSceneWithOptions(const SceneOptions& o) {
   if (!o.eye.empty()) cam.eye = parseVec3("--eye", o.eye);
   if (!o.lookAt.empty()) cam.lookAt = parseVec3("--look-at", o.lookAt);
   if (!o.up.empty()) cam.up = parseVec3("--up", o.up);
-  if (o.fov) cam.vfovDegrees = *o.fov;
+  if (o.fov) {  // a field of view asks for a perspective camera
+    cam.vfovDegrees = *o.fov;
+    cam.orthographicHeight = 0.0f;
+  }
   if (o.lensRadius) cam.lensRadius = *o.lensRadius;
   if (o.focusDistance) cam.focusDistance = *o.focusDistance;
   if (!o.shutter.empty()) {

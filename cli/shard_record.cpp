@@ -48,6 +48,7 @@ nlohmann::json pixelSettings(const Scene& scene, const SceneOptions& options, in
                  {"look_at", {c.lookAt.x, c.lookAt.y, c.lookAt.z}},
                  {"up", {c.up.x, c.up.y, c.up.z}},
                  {"fov", c.vfovDegrees},
+                 {"orthographic_height", c.orthographicHeight},
                  {"lens_radius", c.lensRadius},
                  {"focus_distance", c.focusDistance},
                  {"shutter", {c.shutterOpen, c.shutterClose}}};

@@ -16,9 +16,14 @@ CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
   const vec3 view = camera.lookAt - camera.eye;
   const float viewLength = glm::length(view);
   if (!(viewLength > 1e-8f)) throw std::invalid_argument("camera eye and look-at coincide");
-  if (!(camera.vfovDegrees > 0.0f && camera.vfovDegrees < 180.0f))
+  const bool orthographic = camera.orthographicHeight != 0.0f;
+  if (orthographic &&
+      !(camera.orthographicHeight > 0.0f && std::isfinite(camera.orthographicHeight)))
+    throw std::invalid_argument("camera orthographic height must be a finite number above 0");
+  if (!orthographic && !(camera.vfovDegrees > 0.0f && camera.vfovDegrees < 180.0f))
     throw std::invalid_argument("camera fov must be in (0, 180) degrees");
   CameraFrame f;
+  f.orthographic = orthographic;
   f.eye = camera.eye;
   f.forward = view / viewLength;
   const vec3 right = glm::cross(f.forward, camera.up);
@@ -41,9 +46,10 @@ CameraFrame makeCameraFrame(const Camera& camera, int width, int height) {
     f.fullWidth = camera.fullWidth;
     f.fullHeight = camera.fullHeight;
   }
-  f.halfHeight = std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
+  f.halfHeight = f.orthographic ? 0.5f * camera.orthographicHeight
+                                : std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
   f.halfWidth = f.halfHeight * float(f.fullWidth) / float(f.fullHeight);
-  f.lensRadius = camera.lensRadius;
+  f.lensRadius = f.orthographic ? 0.0f : camera.lensRadius;
   f.focusDistance = camera.focusDistance > 0.0f ? camera.focusDistance : viewLength;
   f.shutterOpen = camera.shutterOpen;
   f.shutterClose = camera.shutterClose;
@@ -71,9 +77,14 @@ Ray generateRay(const CameraFrame& f, const CameraSample& s) {
   // Point on the film plane at distance 1 along forward.
   const float ndcX = 2.0f * (s.imageX + float(f.offsetX)) / float(f.fullWidth) - 1.0f;
   const float ndcY = 1.0f - 2.0f * (s.imageY + float(f.offsetY)) / float(f.fullHeight);
-  const vec3 dir = f.forward + ndcX * f.halfWidth * f.right + ndcY * f.halfHeight * f.upAxis;
   Ray ray;
   ray.time = f.shutterOpen + s.time * (f.shutterClose - f.shutterOpen);
+  if (f.orthographic) {
+    ray.origin = f.eye + ndcX * f.halfWidth * f.right + ndcY * f.halfHeight * f.upAxis;
+    ray.direction = f.forward;
+    return ray;
+  }
+  const vec3 dir = f.forward + ndcX * f.halfWidth * f.right + ndcY * f.halfHeight * f.upAxis;
   if (f.lensRadius <= 0.0f) {
     ray.origin = f.eye;
     ray.direction = glm::normalize(dir);
@@ -101,9 +112,11 @@ bool approximateRayDifferentials(const CameraFrame& f, vec3 point, RayDifferenti
   const float z = glm::dot(v, f.forward);
   if (!(z > 1e-6f * glm::length(v)) || !(f.halfWidth > 0.0f) || !(f.halfHeight > 0.0f))
     return false;
-  // generateRay's film point, inverted: the point's place on the plane at distance 1.
-  const float ndcX = glm::dot(v, f.right) / (z * f.halfWidth);
-  const float ndcY = glm::dot(v, f.upAxis) / (z * f.halfHeight);
+  // generateRay's film point, inverted: the point's place on the plane at distance 1 (or,
+  // orthographic, on the plane through the eye).
+  const float depth = f.orthographic ? 1.0f : z;
+  const float ndcX = glm::dot(v, f.right) / (depth * f.halfWidth);
+  const float ndcY = glm::dot(v, f.upAxis) / (depth * f.halfHeight);
   CameraSample s;
   s.imageX = 0.5f * (ndcX + 1.0f) * float(f.fullWidth) - float(f.offsetX);
   s.imageY = 0.5f * (1.0f - ndcY) * float(f.fullHeight) - float(f.offsetY);

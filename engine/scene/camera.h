@@ -1,5 +1,5 @@
-// Thin-lens camera with a shutter interval. A camera sample is the 5D point
-// (imageX, imageY, lensU, lensV, time): image position in raster pixels (x right,
+// Thin-lens camera with a shutter interval, or an orthographic one. A camera sample is the 5D
+// point (imageX, imageY, lensU, lensV, time): image position in raster pixels (x right,
 // y down), lens and time in [0,1). Radius 0 gives a pinhole camera.
 #pragma once
 
@@ -15,6 +15,10 @@ struct Camera {
   vec3 lookAt = vec3(0.0f);
   vec3 up = vec3(0.0f, 1.0f, 0.0f);
   float vfovDegrees = 40.0f;
+  // > 0: an orthographic camera whose view is this tall (world units) at any distance; its
+  // rays start on the plane through the eye, parallel to the view direction, and vfovDegrees
+  // and the lens are not used.
+  float orthographicHeight = 0.0f;
   float lensRadius = 0.0f;
   float focusDistance = 0.0f;  // <= 0: distance from eye to lookAt
   float shutterOpen = 0.0f;    // scene time in [0,1] at which the shutter opens
@@ -41,6 +45,8 @@ struct Ray {
 struct CameraFrame {
   vec3 eye, right, upAxis, forward;     // orthonormal; forward points into the scene
   float halfHeight = 0, halfWidth = 0;  // film extent on the plane at distance 1
+  // (orthographic: the view's half extents on the plane through the eye, world units)
+  bool orthographic = false;
   float lensRadius = 0, focusDistance = 1;
   float shutterOpen = 0, shutterClose = 1;
   int width = 1, height = 1;          // the image rendered (the region, with one)
@@ -48,7 +54,8 @@ struct CameraFrame {
   int fullWidth = 1, fullHeight = 1;  // the full image
 };
 
-// Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view) or
+// Throws std::invalid_argument on a degenerate camera (eye == lookAt, up parallel to view, an
+// orthographic height that is not a finite number above 0) or
 // a region that does not fit its full image (a width x height region of it at regionX,
 // regionY).
 CameraFrame makeCameraFrame(const Camera& camera, int width, int height);

@@ -54,7 +54,9 @@ Camera panCamera(const Camera& camera, float dx, float dy) {
   Camera c = camera;
   const Frame f = frameOf(camera);
   const float viewHeight =
-      2.0f * std::max(f.distance, 1e-6f) * std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
+      camera.orthographicHeight > 0
+          ? camera.orthographicHeight
+          : 2.0f * std::max(f.distance, 1e-6f) * std::tan(0.5f * camera.vfovDegrees * kPi / 180.0f);
   const vec3 move = (-dx * f.right + dy * f.up) * viewHeight;
   c.eye += move;
   c.lookAt += move;
@@ -66,6 +68,11 @@ Camera dollyCamera(const Camera& camera, float factor) {
   const Frame f = frameOf(camera);
   if (!(f.distance > 0) || !(factor > 0) || !std::isfinite(factor)) return c;
   const float distance = std::max(f.distance * factor, 1e-3f * f.distance);
+  // An orthographic view shows as much at any distance: it grows or shrinks instead.
+  if (camera.orthographicHeight > 0) {
+    c.orthographicHeight = camera.orthographicHeight * distance / f.distance;
+    return c;
+  }
   c.eye = camera.lookAt - f.forward * distance;
   return c;
 }

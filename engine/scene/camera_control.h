@@ -19,7 +19,8 @@ Camera orbitCamera(const Camera& camera, float yaw, float pitch);
 Camera panCamera(const Camera& camera, float dx, float dy);
 
 // Scales the eye's distance to lookAt by `factor` (< 1 comes closer), never below 1e-3 of
-// the original distance nor to zero.
+// the original distance nor to zero; an orthographic camera's height instead, as if it had
+// come that much closer.
 Camera dollyCamera(const Camera& camera, float factor);
 
 // Moves eye and lookAt together by `right`, `up` and `forward` in the camera's frame

@@ -8,9 +8,9 @@
 // and roughness factors and texture, KHR_materials_transmission and _ior, normal maps,
 // alphaMode MASK as cut-outs); emissive factors and textures (with KHR_materials_emissive_strength)
 // as area lights; KHR_lights_punctual lights; node animation (translation, rotation, scale; linear,
-// step, cubic spline) as motion blur; the first perspective camera, or the one named. Buffers and
-// images are read from data: URIs, the .glb's binary chunk, or files by relative path only: a URI
-// with a scheme (a network location) or an absolute path is refused.
+// step, cubic spline) as motion blur; the first camera (perspective or orthographic), or the one
+// named. Buffers and images are read from data: URIs, the .glb's binary chunk, or files by relative
+// path only: a URI with a scheme (a network location) or an absolute path is refused.
 #pragma once
 
 #include "core/image.h"
@@ -24,7 +24,7 @@
 namespace penumbra {
 
 struct GltfOptions {
-  std::string camera;  // the camera's node or camera name; empty: the first perspective one
+  std::string camera;  // the camera's node or camera name; empty: the first one
   // Seconds into the animations at which the shutter opens (default: their start), and how
   // long it stays open. Scene time [0, 1] spans [frameTime, frameTime + shutterSeconds].
   std::optional<double> frameTime;

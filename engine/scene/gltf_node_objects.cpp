@@ -120,9 +120,16 @@ bool pickCamera(const std::string& path, const tinygltf::Model& model,
     if (node.camera < 0 || size_t(node.camera) >= model.cameras.size())
       fail(path, indexed("nodes", size_t(entry.first)) + ".camera", "camera does not exist");
     const tinygltf::Camera& camera = model.cameras[size_t(node.camera)];
-    if (camera.type != "perspective") {
+    if (camera.type != "perspective" && camera.type != "orthographic") {
       warnings.push_back(indexed("cameras", size_t(node.camera)) + ": " + camera.type +
                          " cameras are not supported");
+      continue;
+    }
+    if (camera.type == "orthographic" &&
+        !(camera.orthographic.ymag != 0.0 && std::isfinite(camera.orthographic.ymag))) {
+      warnings.push_back(indexed("cameras", size_t(node.camera)) +
+                         ": an orthographic camera's ymag must be a finite number other than 0; "
+                         "the camera is left out");
       continue;
     }
     const std::string label = node.name.empty() ? camera.name : node.name;
@@ -134,12 +141,11 @@ bool pickCamera(const std::string& path, const tinygltf::Model& model,
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
     fail(path, "",
-         "no perspective camera named '" + name +
-             "' (there are: " + (list.empty() ? "none" : list) + ")");
+         "no camera named '" + name + "' (there are: " + (list.empty() ? "none" : list) + ")");
   }
   if (!chosen) return false;
   const tinygltf::Node& node = model.nodes[size_t(chosen->first)];
-  const tinygltf::PerspectiveCamera& p = model.cameras[size_t(node.camera)].perspective;
+  const tinygltf::Camera& camera = model.cameras[size_t(node.camera)];
   const glm::mat4& world = chosen->second;
   const glm::vec3 eye = glm::vec3(world * glm::vec4(0, 0, 0, 1));
   const glm::vec3 forward = glm::vec3(world * glm::vec4(0, 0, -1, 0));
@@ -150,7 +156,12 @@ bool pickCamera(const std::string& path, const tinygltf::Model& model,
   out.eye = eye;
   out.lookAt = eye + glm::normalize(forward);
   out.up = glm::normalize(up);
-  const double degrees = p.yfov * 180.0 / kPiD;
+  if (camera.type == "orthographic") {
+    // ymag is half the view's height; the image's aspect sets its width (as xmag would).
+    out.orthographicHeight = float(2.0 * std::abs(camera.orthographic.ymag));
+    return true;
+  }
+  const double degrees = camera.perspective.yfov * 180.0 / kPiD;
   out.vfovDegrees = degrees > 0.01 && degrees < 179.9 ? float(degrees) : 40.0f;
   return true;
 }

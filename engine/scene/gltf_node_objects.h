@@ -31,10 +31,11 @@ PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& 
 std::vector<glm::mat4> readInstances(const std::string& path, const tinygltf::Model& model,
                                      const tinygltf::Node& node, const std::string& where);
 
-// The perspective camera named `name` (the first when `name` is empty) among `cameraNodes`
-// (a node and its world transform), set in `out`; false when there is none. Other camera
-// types are left out with a line in `warnings`. Throws SceneError when `name` names no
-// perspective camera, or the chosen camera's transform is degenerate.
+// The camera named `name` (the first when `name` is empty) among `cameraNodes` (a node and
+// its world transform), set in `out`: a perspective one's field of view, or an orthographic
+// one's height (2 ymag); false when there is none. Other camera types, and orthographic ones
+// whose ymag is 0 or not finite, are left out with a line in `warnings`. Throws SceneError when
+// `name` names no camera, or the chosen camera's transform is degenerate.
 bool pickCamera(const std::string& path, const tinygltf::Model& model,
                 const std::vector<std::pair<int, glm::mat4>>& cameraNodes, const std::string& name,
                 Camera& out, std::vector<std::string>& warnings);

@@ -149,13 +149,19 @@ void readRender(const Reader& r, const Json& node, RenderSettings& s) {
 
 void readCamera(const Reader& r, const Json& node, Camera& c) {
   const std::string f = "camera";
-  r.checkKeys(node, f, {"eye", "look_at", "up", "fov", "lens_radius", "focus_distance", "shutter"});
+  r.checkKeys(node, f,
+              {"eye", "look_at", "up", "fov", "orthographic_height", "lens_radius",
+               "focus_distance", "shutter"});
   c.eye = r.vector3(node, f, "eye", c.eye);
   c.lookAt = r.vector3(node, f, "look_at", c.lookAt);
   c.up = r.vector3(node, f, "up", c.up);
   c.vfovDegrees = r.number(node, f, "fov", c.vfovDegrees);
   if (!(c.vfovDegrees > 0 && c.vfovDegrees < 180))
     r.fail(f + ".fov", "expected degrees in (0, 180)");
+  c.orthographicHeight = r.number(node, f, "orthographic_height", c.orthographicHeight);
+  if (node.contains("orthographic_height") &&
+      !(c.orthographicHeight > 0 && std::isfinite(c.orthographicHeight)))
+    r.fail(f + ".orthographic_height", "expected the view's height, a number above 0");
   c.lensRadius = r.number(node, f, "lens_radius", c.lensRadius);
   if (c.lensRadius < 0) r.fail(f + ".lens_radius", "must not be negative");
   c.focusDistance = r.number(node, f, "focus_distance", c.focusDistance);

@@ -22,7 +22,7 @@ struct SceneLoadOptions {
   static constexpr size_t kDefaultTextureBudgetBytes = size_t(384) * 1000 * 1000;
 };
 
-// Loads a .json scene, a .gltf / .glb scene (its first perspective camera, or the one named
+// Loads a .json scene, a .gltf / .glb scene (its first camera, or the one named
 // in options; framed automatically when it has none) or a .obj file (camera framed
 // automatically) by extension.
 Scene loadScene(const std::string& path, const SceneLoadOptions& options = {});

@@ -219,7 +219,7 @@ expect_error "glTF: missing .bin file" gltf_nobin.gltf "not found : missing.bin"
 expect_error "glb: truncated in its JSON chunk" cut.glb "JSON chunk of" "$work/cut.glb"
 expect_error "glb: wrong magic" magic.glb "not a binary glTF file (no 'glTF' header)" "$work/magic.glb"
 expect_error "glTF: node its own ancestor" gltf_cycle.gltf "nodes[0]: is its own ancestor" "$work/gltf_cycle.gltf"
-expect_error "glTF: --camera names no camera" gltf_ok.gltf "no perspective camera named 'Nope' (there are: Cam)" "$work/gltf_ok.gltf" --camera Nope
+expect_error "glTF: --camera names no camera" gltf_ok.gltf "no camera named 'Nope' (there are: Cam)" "$work/gltf_ok.gltf" --camera Nope
 expect_error "glTF: a light the file lacks" gltf_light.gltf "nodes[0].extensions.KHR_lights_punctual.light: light 5 does not exist" "$work/gltf_light.gltf"
 expect_error "glTF: keyframes going backwards" gltf_anim.gltf "animations[0].channels[0].input (accessors[2]): keyframe time 0 at 1" "$work/gltf_anim.gltf"
 

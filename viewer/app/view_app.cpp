@@ -158,6 +158,7 @@ bool ViewerApp::finishReload() {
                              oldFileCamera.lookAt != newFileCamera.lookAt ||
                              oldFileCamera.up != newFileCamera.up ||
                              oldFileCamera.vfovDegrees != newFileCamera.vfovDegrees ||
+                             oldFileCamera.orthographicHeight != newFileCamera.orthographicHeight ||
                              oldFileCamera.lensRadius != newFileCamera.lensRadius ||
                              oldFileCamera.focusDistance != newFileCamera.focusDistance ||
                              oldFileCamera.shutterOpen != newFileCamera.shutterOpen ||

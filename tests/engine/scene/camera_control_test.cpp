@@ -64,6 +64,17 @@ TEST(CameraControl, DollyScalesTheDistanceAndNeverReachesZero) {
   EXPECT_GT(glm::length(floor.eye - floor.lookAt), 0.0f);
 }
 
+TEST(CameraControl, AnOrthographicViewZoomsByItsHeightAndPansByIt) {
+  Camera ortho = start();
+  ortho.orthographicHeight = 4.0f;
+  const Camera closer = dollyCamera(ortho, 0.5f);
+  EXPECT_NEAR(closer.orthographicHeight, 2.0f, 1e-6f);
+  expectNear(closer.eye, ortho.eye, kCameraTolerance);
+  // A drag to the right by 0.1 of the window moves the camera left by 0.1 of the view's height.
+  const Camera moved = panCamera(ortho, 0.1f, 0.0f);
+  EXPECT_NEAR(moved.eye.x - ortho.eye.x, -0.4f, 1e-5f);
+}
+
 TEST(CameraControl, FlyMovesAlongTheCameraAxes) {
   const Camera c = flyCamera(start(), 0.0f, 0.0f, 1.0f);  // forward is -z
   expectNear(c.eye, vec3(0, 1, 4), kCameraTolerance);

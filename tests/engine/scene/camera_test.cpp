@@ -1,10 +1,14 @@
 // Camera tests: pinhole rays start at the eye; thin-lens rays through one film point
-// meet on the focus plane; the shutter maps sample time to scene time.
+// meet on the focus plane; orthographic rays run parallel from the plane through the eye; the
+// shutter maps sample time to scene time.
 #include "scene/camera.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+
+#include <limits>
+#include <stdexcept>
 
 namespace penumbra {
 namespace {
@@ -159,6 +163,38 @@ TEST(Camera, APointsApproximateDifferentialsAreThoseOfTheCameraRayThatSeesIt) {
   // Behind the camera, or in its plane: none.
   EXPECT_FALSE(approximateRayDifferentials(frame, camera.eye + (camera.eye - point), approximate));
   EXPECT_FALSE(approximateRayDifferentials(frame, camera.eye, approximate));
+}
+
+TEST(Camera, OrthographicRaysRunParallelFromThePlaneThroughTheEye) {
+  Camera c = testCamera();
+  c.orthographicHeight = 3.0f;
+  c.lensRadius = 0.5f;  // not used
+  const CameraFrame f = makeCameraFrame(c, 64, 48);
+  EXPECT_TRUE(f.orthographic);
+  const vec3 forward = glm::normalize(c.lookAt - c.eye);
+  // The image's centre starts at the eye, its top edge 1.5 above it, its right edge 2 to the
+  // right (the 4:3 image's width); every ray looks along the view direction.
+  const Ray centre = generateRay(f, CameraSample{32, 24, 0.1f, 0.9f, 0});
+  const Ray top = generateRay(f, CameraSample{32, 0, 0.5f, 0.5f, 0});
+  const Ray right = generateRay(f, CameraSample{64, 24, 0.5f, 0.5f, 0});
+  for (const Ray& r : {centre, top, right})
+    EXPECT_NEAR(glm::length(r.direction - forward), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(centre.origin - c.eye), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(top.origin - (c.eye + 1.5f * f.upAxis)), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(right.origin - (c.eye + 2.0f * f.right)), 0.0f, 1e-5f);
+  // A point's approximate differentials: one pixel (3 / 48) apart, whatever its distance.
+  const vec3 point = top.origin + 9.0f * forward;
+  RayDifferentials d;
+  ASSERT_TRUE(approximateRayDifferentials(f, point, d));
+  const RayDifferentials exact = cameraRayDifferentials(f, CameraSample{32, 0, 0.5f, 0.5f, 0.5f});
+  EXPECT_NEAR(glm::length(d.yOrigin - exact.yOrigin), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(d.yOrigin - top.origin), 3.0f / 48.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(d.xDirection - forward), 0.0f, 1e-6f);
+  // A height that is not a finite number above 0 is refused.
+  for (float bad : {-1.0f, std::numeric_limits<float>::infinity()}) {
+    c.orthographicHeight = bad;
+    EXPECT_THROW(makeCameraFrame(c, 64, 48), std::invalid_argument);
+  }
 }
 
 }  // namespace

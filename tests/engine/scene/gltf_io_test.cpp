@@ -86,7 +86,18 @@ TEST(Gltf, CamerasFirstByNameOrFramed) {
   expectNear(loadScene(path, byName).camera.eye, vec3(0, 1, 5));
   byName.camera = "nope";
   expectSceneError([&] { loadScene(path, byName); },
-                   {"quad.gltf", "no perspective camera named 'nope'", "there are: shot"});
+                   {"quad.gltf", "no camera named 'nope'", "there are: shot"});
+  // An orthographic camera: its view is 2 ymag tall.
+  j["cameras"][0] = {
+      {"type", "orthographic"},
+      {"orthographic", {{"xmag", 3.0}, {"ymag", 1.5}, {"znear", 0.1}, {"zfar", 50}}}};
+  const Scene ortho = loadScene(writeGltf("ortho.gltf", j));
+  EXPECT_FLOAT_EQ(ortho.camera.orthographicHeight, 3.0f);
+  expectNear(ortho.camera.eye, vec3(0, 1, 5));
+  j["cameras"][0]["orthographic"]["ymag"] = 0.0;
+  const GltfData flat = loadGltf(writeGltf("flat.gltf", j));
+  EXPECT_FALSE(flat.hasCamera);
+  EXPECT_NE(allWarnings(flat).find("cameras[0]: an orthographic camera's ymag"), std::string::npos);
 
   j["nodes"][3].erase("camera");
   const Scene framed = loadScene(writeGltf("no_camera.gltf", j));

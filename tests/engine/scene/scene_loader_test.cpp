@@ -68,6 +68,7 @@ TEST(SceneLoader, EachMalformedFieldIsNamed) {
       {R"("width": 64)", R"("width": -3)", "render.width: value -3 outside"},
       {R"("spp": 8)", R"("spp": "many")", "render.spp: expected an integer"},
       {R"("fov": 30)", R"("fov": 200)", "camera.fov"},
+      {R"("fov": 30)", R"("fov": 30, "orthographic_height": -2)", "camera.orthographic_height"},
       {R"("eye": [0, 1, 4])", R"("eye": [0, 1])", "camera.eye: expected [x, y, z]"},
       {R"("eye": [0, 1, 4])", R"("eye": [0, "one", 4])", "camera.eye[1]: expected a number"},
       {R"("shutter": [0.2, 0.8])", R"("shutter": [0.9, 0.1])", "camera.shutter"},

@@ -680,6 +680,27 @@ TEST(Integrator, AnisotropicHighlightsStretchAlongTheTangentTurnedByTheRotation)
   EXPECT_LT(highlightAspect(0.8f, float(kPiD) / 2), 0.5);
 }
 
+TEST(Integrator, AnOrthographicCameraSeesObjectsAtTheirSizeAtAnyDistance) {
+  // A glowing unit sphere in a view 4 tall and wide covers pi / 16 of the image, seen from 3 or
+  // from 30 away; a perspective camera sees it shrink.
+  const auto covered = [](float distance, float orthographicHeight) {
+    Scene scene = sceneFrom(R"({
+      "render": {"width": 64, "height": 64, "max_depth": 0},
+      "camera": {"eye": [0, 0, )" +
+                            std::to_string(distance) + R"(], "look_at": [0, 0, 0], "fov": 40},
+      "materials": {"glow": {"type": "diffuse", "albedo": 0, "emission": 1}},
+      "objects": [{"shape": "sphere", "radius": 1, "material": "glow"}]})");
+    scene.camera.orthographicHeight = orthographicHeight;
+    const Image image = renderScene(std::move(scene), 16).image;
+    double sum = 0;
+    for (const vec3& p : image.pixels) sum += p.x;
+    return sum / double(image.pixels.size());
+  };
+  EXPECT_NEAR(covered(3.0f, 4.0f), kPiD / 16, 5e-3);
+  EXPECT_NEAR(covered(30.0f, 4.0f), kPiD / 16, 5e-3);
+  EXPECT_GT(covered(3.0f, 0.0f), 10 * covered(30.0f, 0.0f));
+}
+
 TEST(Integrator, EmittersShineOnlyFromTheirCounterClockwiseSide) {
   // The disk faces up (+y); a camera below it sees its black back side.
   // (Built by concatenation: g++ 12 gives a false -Wrestrict warning for string::replace.)
