@@ -35,22 +35,30 @@ void readColor(const std::string& path, const tinygltf::Value& extension, const 
   }
 }
 
+// The texture reference `key` of an extension as tinygltf's (index -1 when absent). Throws
+// SceneError naming where.key when it is not an object with an integer index.
+tinygltf::TextureInfo textureInfo(const std::string& path, const tinygltf::Value& extension,
+                                  const char* key, const std::string& where) {
+  tinygltf::TextureInfo info;
+  if (!extension.Has(key)) return info;
+  const tinygltf::Value& v = extension.Get(key);
+  if (!v.IsObject() || !v.Has("index") || !v.Get("index").IsInt())
+    fail(path, where + "." + key, "must be a texture reference with an index");
+  info.index = v.Get("index").GetNumberAsInt();
+  if (v.Has("texCoord") && v.Get("texCoord").IsInt())
+    info.texCoord = v.Get("texCoord").GetNumberAsInt();
+  if (v.Has("extensions") && v.Get("extensions").IsObject())
+    for (const std::string& name : v.Get("extensions").Keys())
+      info.extensions[name] = v.Get("extensions").Get(name);
+  return info;
+}
+
 // The extension's texture reference `key` converted by `texture`; -1 when absent.
 int layerTexture(const std::string& path, const tinygltf::Value& extension, const char* key,
                  const std::string& where, Texels texels, const LayerTexture& texture) {
-  if (!extension.Has(key)) return -1;
-  const tinygltf::Value& info = extension.Get(key);
-  const std::string field = where + "." + key;
-  if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt())
-    fail(path, field, "must be a texture reference with an index");
-  const int texCoord = info.Has("texCoord") && info.Get("texCoord").IsInt()
-                           ? info.Get("texCoord").GetNumberAsInt()
-                           : 0;
-  tinygltf::ExtensionMap extensions;
-  if (info.Has("extensions") && info.Get("extensions").IsObject())
-    for (const std::string& name : info.Get("extensions").Keys())
-      extensions[name] = info.Get("extensions").Get(name);
-  return texture(info.Get("index").GetNumberAsInt(), texCoord, extensions, field, texels);
+  const tinygltf::TextureInfo info = textureInfo(path, extension, key, where);
+  if (info.index < 0) return -1;
+  return texture(info.index, info.texCoord, info.extensions, where + "." + key, texels);
 }
 
 }  // namespace
@@ -140,24 +148,6 @@ void readMaterialLayers(const std::string& path, const tinygltf::Material& m,
 }
 
 namespace {
-
-// The texture reference `key` of an extension as tinygltf's (index -1 when absent); throws as
-// layerTexture does.
-tinygltf::TextureInfo textureInfo(const std::string& path, const tinygltf::Value& extension,
-                                  const char* key, const std::string& where) {
-  tinygltf::TextureInfo info;
-  if (!extension.Has(key)) return info;
-  const tinygltf::Value& v = extension.Get(key);
-  if (!v.IsObject() || !v.Has("index") || !v.Get("index").IsInt())
-    fail(path, where + "." + key, "must be a texture reference with an index");
-  info.index = v.Get("index").GetNumberAsInt();
-  if (v.Has("texCoord") && v.Get("texCoord").IsInt())
-    info.texCoord = v.Get("texCoord").GetNumberAsInt();
-  if (v.Has("extensions") && v.Get("extensions").IsObject())
-    for (const std::string& name : v.Get("extensions").Keys())
-      info.extensions[name] = v.Get("extensions").Get(name);
-  return info;
-}
 
 tinygltf::Value textureValue(const tinygltf::TextureInfo& info) {
   tinygltf::Value::Object o;
