@@ -421,11 +421,8 @@ class Converter {
     }
     // Cameras and lights are placed where they are when the shutter opens.
     if (node.camera >= 0) cameraNodes_.push_back({index, world.front()});
-    if (node.extensions.count("KHR_lights_punctual")) {
-      std::string warning;
-      out_.lights.push_back(readPunctualLight(path_, model_, node, world.front(), where, &warning));
-      if (!warning.empty()) warn(warning);
-    }
+    if (node.extensions.count("KHR_lights_punctual"))
+      out_.lights.push_back(readPunctualLight(path_, model_, node, world.front(), where));
     for (int child : node.children) visit(child, world, where + ".children");
     onPath_[size_t(index)] = 0;
   }

@@ -15,7 +15,7 @@ namespace penumbra::gltf {
 
 PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& model,
                                 const tinygltf::Node& node, const glm::mat4& world,
-                                const std::string& where, std::string* warning) {
+                                const std::string& where) {
   double index = -1.0;
   const auto it = node.extensions.find("KHR_lights_punctual");
   if (it != node.extensions.end() && it->second.IsObject() && it->second.Has("light") &&
@@ -55,8 +55,12 @@ PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& 
     out.cosInner = float(std::cos(inner));
     out.cosOuter = float(std::cos(outer));
   }
-  if (light.range > 0 && warning)
-    *warning = lightWhere + ": range is ignored (light falls off with the square of the distance)";
+  // A directional light has no range; for the others it is in world units, which the node's
+  // scale does not change (KHR_lights_punctual).
+  if (out.kind != PunctualLight::Kind::Directional && light.range > 0) {
+    if (!std::isfinite(light.range)) fail(path, lightWhere + ".range", "not finite");
+    out.range = float(light.range);
+  }
   return out;
 }
 

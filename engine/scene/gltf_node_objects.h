@@ -18,11 +18,10 @@ namespace penumbra::gltf {
 
 // The light of `node` (its KHR_lights_punctual extension) where `world` places it: at the
 // node's origin, shining along its -z. Throws SceneError naming `where` for a light that does
-// not exist, an unknown type, a non-finite intensity or a degenerate transform; `warning` gets
-// what is not rendered (a range).
+// not exist, an unknown type, a non-finite intensity or range, or a degenerate transform.
 PunctualLight readPunctualLight(const std::string& path, const tinygltf::Model& model,
                                 const tinygltf::Node& node, const glm::mat4& world,
-                                const std::string& where, std::string* warning);
+                                const std::string& where);
 
 // The transforms of a node's EXT_mesh_gpu_instancing instances (T·R·S of each instance's
 // TRANSLATION, ROTATION and SCALE, those it lacks the identity), applied before the node's own

@@ -85,6 +85,7 @@ bool samplePunctual(const PunctualLight& light, vec3 reference, LightSample& out
   out.wi = toLight / out.distance;
   out.point = light.position;
   out.radiance = light.intensity / dist2;
+  if (light.range > 0) out.radiance *= rangeWindow(light.range, dist2);
   if (light.kind == PunctualLight::Kind::Spot)
     out.radiance *= spotFalloff(light, -glm::dot(out.wi, light.direction));
   return out.radiance.x > 0 || out.radiance.y > 0 || out.radiance.z > 0;

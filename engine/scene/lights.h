@@ -29,6 +29,7 @@
 #include "scene/scene.h"
 #include "scene/textures.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -108,6 +109,13 @@ glm::vec2 lightChart(const LightSampler& lights, const LightSample& sample);
 
 // Radiance a material emits at texture coordinate uv (its emission times its texture, over
 // the footprint when one is known).
+// The window a point or spot light's `range` puts on its inverse square at squared distance
+// dist2 (KHR_lights_punctual's recommendation): clamp(1 - (d / range)^4, 0, 1).
+inline float rangeWindow(float range, float dist2) {
+  const float q = dist2 / (range * range);
+  return std::clamp(1.0f - q * q, 0.0f, 1.0f);
+}
+
 vec3 emittedRadiance(const Scene& scene, const Material& material, glm::vec2 uv,
                      const UvFootprint& footprint = {});
 

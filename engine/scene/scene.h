@@ -200,6 +200,9 @@ struct PunctualLight {
   vec3 direction = vec3(0.0f, 0.0f, -1.0f);   // unit; where the light shines (spot, directional)
   vec3 intensity = vec3(1.0f);                // colour times intensity
   float cosInner = 1.0f, cosOuter = 0.7071f;  // spot cone: full inside, none outside
+  // Point and spot lights: the distance at which the light reaches nothing (glTF's `range`), by
+  // glTF's window clamp(1 - (d / range)^4, 0, 1) on the inverse square; 0: none (it never ends).
+  float range = 0.0f;
 };
 
 struct RenderSettings {

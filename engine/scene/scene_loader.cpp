@@ -545,11 +545,12 @@ void readObject(const Reader& r, const Json& node, const std::string& f, Scene& 
 }
 
 // A punctual light: {"type": "point" | "spot" | "directional", "position", "direction",
-// "color", "intensity", "inner_angle", "outer_angle"} (angles in degrees, as glTF's cones).
+// "color", "intensity", "inner_angle", "outer_angle", "range"} (angles in degrees, as glTF's
+// cones; range as glTF's, 0 or absent for none).
 PunctualLight readLight(const Reader& r, const Json& node, const std::string& f) {
   r.checkKeys(node, f,
               {"name", "type", "position", "direction", "color", "intensity", "inner_angle",
-               "outer_angle"});
+               "outer_angle", "range"});
   if (!node.contains("type")) r.fail(f, "missing field 'type' (point, spot, directional)");
   const std::string type = r.string(node["type"], f + ".type");
   PunctualLight light;
@@ -575,6 +576,11 @@ PunctualLight readLight(const Reader& r, const Json& node, const std::string& f)
     r.fail(f + ".outer_angle", "expected 0 <= inner_angle <= outer_angle <= 90 degrees");
   light.cosInner = std::cos(glm::radians(inner));
   light.cosOuter = std::cos(glm::radians(outer));
+  light.range = r.number(node, f, "range", 0.0f);
+  if (!(light.range >= 0 && std::isfinite(light.range)))
+    r.fail(f + ".range", "expected a distance >= 0 (0: the light never ends)");
+  if (light.range > 0 && light.kind == PunctualLight::Kind::Directional)
+    r.fail(f + ".range", "a directional light has no range");
   return light;
 }
 

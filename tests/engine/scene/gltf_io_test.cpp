@@ -382,6 +382,7 @@ TEST(Gltf, PunctualLightsArePlacedByTheirNodes) {
   const double s = std::sqrt(0.5);
   j["nodes"].push_back({{"name", "bulb"},
                         {"translation", {1, 2, 3}},
+                        {"scale", {2, 2, 2}},  // moves nothing, and leaves the range as it is
                         {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   // Turned -90 degrees about x: its -z (where a spot shines) points down, -y.
   j["nodes"].push_back({{"translation", {0, 4, 0}},
@@ -390,13 +391,14 @@ TEST(Gltf, PunctualLightsArePlacedByTheirNodes) {
   j["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
   j["scenes"][0]["nodes"] = {0, 2, 3, 4, 5, 6};
   j["extensionsUsed"].push_back("KHR_lights_punctual");
-  j["extensions"] = {{"KHR_lights_punctual",
-                      {{"lights",
-                        {{{"type", "point"}, {"intensity", 10.0}, {"color", {1.0, 0.5, 0.25}}},
-                         {{"type", "spot"},
-                          {"intensity", 2.0},
-                          {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.4}}}},
-                         {{"type", "directional"}, {"intensity", 3.0}, {"range", 5.0}}}}}}};
+  j["extensions"] = {
+      {"KHR_lights_punctual",
+       {{"lights",
+         {{{"type", "point"}, {"intensity", 10.0}, {"color", {1.0, 0.5, 0.25}}, {"range", 4.0}},
+          {{"type", "spot"},
+           {"intensity", 2.0},
+           {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.4}}}},
+          {{"type", "directional"}, {"intensity", 3.0}, {"range", 5.0}}}}}}};
   const GltfData g = loadGltf(writeGltf("lights.gltf", j));
   ASSERT_EQ(g.lights.size(), 3u);
   EXPECT_EQ(g.lights[0].kind, PunctualLight::Kind::Point);
@@ -409,8 +411,11 @@ TEST(Gltf, PunctualLightsArePlacedByTheirNodes) {
   EXPECT_NEAR(g.lights[1].cosOuter, std::cos(0.4f), 1e-6f);
   EXPECT_EQ(g.lights[2].kind, PunctualLight::Kind::Directional);
   expectNear(g.lights[2].direction, vec3(0, 0, -1));
-  ASSERT_EQ(g.warnings.size(), 1u);
-  EXPECT_NE(g.warnings[0].find("range is ignored"), std::string::npos) << g.warnings[0];
+  // The point light's range is read; the spot has none, and a directional light's means nothing.
+  EXPECT_EQ(g.lights[0].range, 4.0f);
+  EXPECT_EQ(g.lights[1].range, 0.0f);
+  EXPECT_EQ(g.lights[2].range, 0.0f);
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings[0];
   // They reach the scene, and a light that does not exist is an error naming the node.
   EXPECT_EQ(loadScene(writeGltf("lights_scene.gltf", j)).lights.size(), 3u);
   j["nodes"][6]["extensions"]["KHR_lights_punctual"]["light"] = 7;

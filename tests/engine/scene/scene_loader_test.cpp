@@ -107,6 +107,32 @@ TEST(SceneLoader, EachMalformedFieldIsNamed) {
   }
 }
 
+// A light's range: read for point and spot lights, an error for a negative one and for a
+// directional light (which has none), named by the light.
+TEST(SceneLoader, ALightsRangeIsReadOrItsErrorNamed) {
+  const auto scene = [](const std::string& light) {
+    return R"({"camera": {"eye": [0, 1, 4], "look_at": [0, 0, 0]},
+               "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+               "objects": [{"shape": "sphere", "radius": 1, "material": "m"}],
+               "lights": [)" +
+           light + "]}";
+  };
+  EXPECT_EQ(
+      parseSceneJson(scene(R"({"type": "point", "range": 3})"), "test.json", ".").lights[0].range,
+      3.0f);
+  EXPECT_EQ(parseSceneJson(scene(R"({"type": "spot"})"), "test.json", ".").lights[0].range, 0.0f);
+  for (const char* bad :
+       {R"({"type": "point", "range": -1})", R"({"type": "directional", "range": 3})"}) {
+    try {
+      parseSceneJson(scene(bad), "test.json", ".");
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("test.json: lights[0].range"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // Found by the scene fuzzer: a rotation axis with a component near 1e24 overflowed a float's
 // squared length, and the object's placement threw an exception that was not a SceneError.
 TEST(SceneLoader, HugeRotationAxesAreNormalisedAndBadTransformsAreSceneErrors) {

@@ -3,6 +3,7 @@
 #include "trace/integrator.h"
 #include "core/constants.h"
 #include "methods/render.h"
+#include "scene/lights.h"
 #include "scene/scene_loader.h"
 #include "scene/tangents.h"
 #include "scene/textures.h"
@@ -262,6 +263,27 @@ TEST(Integrator, PunctualLightsFollowTheInverseSquareLawAndTheirCones) {
   // A point light behind the plane does not shine through it.
   EXPECT_EQ(planeUnderPunctualLight(R"({"type": "point", "position": [0, -2, 0], "intensity": 8})"),
             0.0);
+}
+
+// glTF's range windows the inverse square by clamp(1 - (d / range)^4, 0, 1): at 2 from the light
+// a range of 4 keeps 15/16 of it, a range of 2^(5/4) half, and a range of 2 or less nothing.
+TEST(Integrator, APunctualLightsRangeWindowsItsInverseSquare) {
+  const double full = 0.5 / 3.14159265358979 * 8.0 / 4.0;
+  const auto lit = [](const std::string& range) {
+    return planeUnderPunctualLight(R"({"type": "point", "position": [0, 2, 0], "intensity": 8,
+                                       "range": )" +
+                                   range + "}");
+  };
+  EXPECT_NEAR(lit("0"), full, 1e-3 * full);  // none
+  EXPECT_NEAR(lit("4"), full * 15.0 / 16.0, 1e-3 * full);
+  EXPECT_NEAR(lit(std::to_string(std::pow(2.0, 1.25))), full * 0.5, 1e-3 * full);
+  EXPECT_EQ(lit("2"), 0.0);
+  EXPECT_EQ(lit("1.5"), 0.0);
+  EXPECT_NEAR(rangeWindow(4.0f, 4.0f), 15.0f / 16.0f, 1e-7f);
+  // A spot's range too.
+  EXPECT_NEAR(planeUnderPunctualLight(R"({"type": "spot", "position": [0, 2, 0], "intensity": 8,
+                                          "outer_angle": 30, "range": 4})"),
+              full * 15.0 / 16.0, 1e-3 * full);
 }
 
 // A plane of `material` seen at 45 degrees under a disk light straight above the point seen,
