@@ -148,14 +148,23 @@ FilmBuffers Film::buffers(unsigned parts, int firstRow, int lastRow, float depth
 
 void Film::fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow,
                        float depthScale) const {
+  fillBuffers(b, parts, firstRow, lastRow, depthScale, 0, width_);
+}
+
+void Film::fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow, float depthScale,
+                       int firstColumn, int lastColumn) const {
   firstRow = std::clamp(firstRow, 0, height_);
   lastRow = std::clamp(lastRow, firstRow, height_);
+  firstColumn = std::clamp(firstColumn, 0, width_);
+  lastColumn = std::clamp(lastColumn, firstColumn, width_);
+  const size_t columns = size_t(lastColumn - firstColumn);
+  const size_t n = size_t(lastRow - firstRow) * columns;
+  const bool wholeRows = columns == size_t(width_);
   const size_t first = size_t(firstRow) * size_t(width_);
-  const size_t n = size_t(lastRow - firstRow) * size_t(width_);
   const bool radiance = parts & FilmBuffers::kRadiance, features = parts & FilmBuffers::kFeatures,
              featureVariances = parts & FilmBuffers::kFeatureVariances,
              emissionVariance = parts & FilmBuffers::kEmissionVariance;
-  b.width = width_;
+  b.width = int(columns);
   b.height = lastRow - firstRow;
   const bool meanOnly = !radiance && (parts & FilmBuffers::kMean);
   // Every entry of a part asked for is written below: sizes only (capacity is kept).
@@ -169,32 +178,34 @@ void Film::fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow
   size(b.normalVariance, featureVariances);
   size(b.depthVariance, featureVariances);
   // Each entry is its pixel's own: the pixels in parallel.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i) {
-                        const size_t p = first + i;
-                        const FilmPixel& px = pixels_[p];
-                        // Variances of the means of the features: the sample variance over the
-                        // count.
-                        const float perSample = px.meanVarianceScale();
-                        if (radiance)
-                          radianceBuffers(p, b, i);
-                        else if (meanOnly)
-                          b.mean[i] = vec3(estimate(p));
-                        if (features) {
-                          b.emission[i] = px.emission;
-                          b.albedo[i] = px.albedo;
-                          b.normal[i] = px.normal;
-                          b.depth[i] = px.depth * depthScale;
-                        }
-                        if (emissionVariance) b.emissionVariance[i] = px.emissionM2 * perSample;
-                        if (featureVariances) {
-                          b.albedoVariance[i] = px.albedoM2 * perSample;
-                          b.normalVariance[i] = px.normalM2 * perSample;
-                          b.depthVariance[i] = px.depthM2 * perSample * depthScale * depthScale;
-                        }
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i) {
+          const size_t p = wholeRows ? first + i
+                                     : (size_t(firstRow) + i / columns) * size_t(width_) +
+                                           size_t(firstColumn) + i % columns;
+          const FilmPixel& px = pixels_[p];
+          // Variances of the means of the features: the sample variance over the
+          // count.
+          const float perSample = px.meanVarianceScale();
+          if (radiance)
+            radianceBuffers(p, b, i);
+          else if (meanOnly)
+            b.mean[i] = vec3(estimate(p));
+          if (features) {
+            b.emission[i] = px.emission;
+            b.albedo[i] = px.albedo;
+            b.normal[i] = px.normal;
+            b.depth[i] = px.depth * depthScale;
+          }
+          if (emissionVariance) b.emissionVariance[i] = px.emissionM2 * perSample;
+          if (featureVariances) {
+            b.albedoVariance[i] = px.albedoM2 * perSample;
+            b.normalVariance[i] = px.normalM2 * perSample;
+            b.depthVariance[i] = px.depthM2 * perSample * depthScale * depthScale;
+          }
+        }
+      });
 }
 
 float Film::depthScale() const {

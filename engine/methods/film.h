@@ -128,6 +128,10 @@ class Film {
   // afresh for every band.
   void fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow,
                    float depthScale) const;
+  // Columns [firstColumn, lastColumn) of those rows only (clipped to the image; width
+  // lastColumn - firstColumn): a rectangle of the image.
+  void fillBuffers(FilmBuffers& b, unsigned parts, int firstRow, int lastRow, float depthScale,
+                   int firstColumn, int lastColumn) const;
   // What FilmBuffers' depths are multiplied by: 1 / the mean depth of the pixels that have one.
   float depthScale() const;
   size_t memoryBytes() const {

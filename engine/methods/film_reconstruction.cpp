@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
 namespace penumbra {
@@ -63,12 +64,16 @@ void releaseAllButMean(FilmBuffers& b) {
 
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel) {
+  return reconstructFilm(film, config, film.depthScale(), cancel);
+}
+
+recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
+                                     float depthScale, const std::atomic<bool>* cancel) {
   // The buffers but the mean go once the filter has read them (they are as large as the
   // filter's own planes).
   const int bandRows = bandRowsFor(film);
   if (bandRows < film.height()) {
     // One band's buffers at a time (the last is dropped before the next is made).
-    const float depthScale = film.depthScale();
     FilmBuffers band;
     return recon::denoiseInBands(
         film.width(), film.height(), config, bandRows,
@@ -79,8 +84,81 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
         },
         cancel, [&band] { releaseAllButMean(band); });
   }
-  FilmBuffers b = film.buffers(kReconstructionParts);
+  FilmBuffers b = film.buffers(kReconstructionParts, 0, film.height(), depthScale);
   return recon::denoise(inputOf(b), config, cancel, [&b] { releaseAllButMean(b); });
+}
+
+bool updateReconstruction(const Film& film, const recon::DenoiseConfig& config,
+                          const std::vector<uint8_t>& changed, KeptReconstruction& kept,
+                          const std::atomic<bool>* cancel) {
+  const int width = film.width(), height = film.height();
+  const size_t w = size_t(width);
+  if (changed.size() != film.pixelCount() || kept.output.width != width ||
+      kept.output.height != height || kept.scale.size() != film.pixelCount())
+    throw std::invalid_argument(
+        "updateReconstruction: the kept reconstruction or the changed "
+        "pixels are not of the film's size");
+  // The changed pixels' bounding box.
+  int x0 = width, x1 = 0, y0 = height, y1 = 0;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = changed.data() + size_t(y) * w;
+    int first = 0;
+    while (first < width && !row[first]) ++first;
+    if (first == width) continue;
+    int last = width;
+    while (!row[last - 1]) --last;
+    x0 = std::min(x0, first), x1 = std::max(x1, last);
+    y0 = std::min(y0, y), y1 = y + 1;
+  }
+  if (x0 >= x1) return true;  // nothing changed
+  // The outputs that may change: within the reach of a changed pixel, and one more, since a
+  // pixel of one sample reads its neighbours' (Film::neighbourVariance). Then the input those
+  // read.
+  const int reach = recon::reach(config);
+  const int grow = reach + 1;
+  const int ox0 = std::max(0, x0 - grow), ox1 = std::min(width, x1 + grow);
+  const int oy0 = std::max(0, y0 - grow), oy1 = std::min(height, y1 + grow);
+  const int ix0 = std::max(0, ox0 - reach), ix1 = std::min(width, ox1 + reach);
+  const int iy0 = std::max(0, oy0 - reach), iy1 = std::min(height, oy1 + reach);
+  if (double(ix1 - ix0) * double(iy1 - iy0) > kMaxUpdateShare * double(w) * double(height))
+    return false;
+  FilmBuffers b;
+  film.fillBuffers(b, kReconstructionParts, iy0, iy1, kept.depthScale, ix0, ix1);
+  const recon::DenoiseResult part =
+      recon::denoiseRows(inputOf(b), config, oy0 - iy0, oy1 - iy0, cancel);
+  if (cancel && cancel->load()) return false;
+  const size_t partWidth = size_t(ix1 - ix0), columns = size_t(ox1 - ox0);
+  for (int y = oy0; y < oy1; ++y) {
+    const size_t from = size_t(y - oy0) * partWidth + size_t(ox0 - ix0);
+    const size_t to = size_t(y) * w + size_t(ox0);
+    std::copy_n(part.output.pixels.begin() + ptrdiff_t(from), columns,
+                kept.output.pixels.begin() + ptrdiff_t(to));
+    std::copy_n(part.scale.begin() + ptrdiff_t(from), columns, kept.scale.begin() + ptrdiff_t(to));
+  }
+  return true;
+}
+
+recon::DenoiseResult PictureReconstruction::reconstruct(const Film& film,
+                                                        const recon::DenoiseConfig& config,
+                                                        double samplesPerPixel, bool final,
+                                                        const std::atomic<bool>* cancel) {
+  // The first pictures of a large image at half resolution, and the last one whole.
+  if (final || reconstructsCoarsely(film, config, samplesPerPixel, final))
+    return reconstructPicture(film, config, samplesPerPixel, final, cancel);
+  recon::DenoiseResult r;
+  if (kept_ && updateReconstruction(film, config, changed_, *kept_, cancel)) {
+    r.output = kept_->output;
+    r.scale = kept_->scale;
+  } else {
+    if (cancel && cancel->load()) return r;
+    kept_.reset();  // not held with the new one
+    const float depthScale = film.depthScale();
+    r = reconstructFilm(film, config, depthScale, cancel);
+    if (cancel && cancel->load()) return r;
+    kept_ = KeptReconstruction{r.output, r.scale, depthScale};
+  }
+  changed_.assign(film.pixelCount(), 0);
+  return r;
 }
 
 bool reconstructsCoarsely(const Film& film, const recon::DenoiseConfig& config,

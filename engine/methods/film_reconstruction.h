@@ -11,6 +11,7 @@
 #include "methods/snapshot.h"
 
 #include <atomic>
+#include <optional>
 #include <vector>
 
 namespace penumbra {
@@ -18,6 +19,58 @@ namespace penumbra {
 // Denoises the film's buffers.
 recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
                                      const std::atomic<bool>* cancel = nullptr);
+// The same with the depths multiplied by `depthScale` instead of the film's depthScale().
+recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfig& config,
+                                     float depthScale, const std::atomic<bool>* cancel = nullptr);
+
+// A picture's reconstruction kept for the next picture (updateReconstruction): its output and
+// chosen scales, and the depth scale it was made with.
+struct KeptReconstruction {
+  Image output;
+  std::vector<uint8_t> scale;
+  float depthScale = 1.0f;
+  size_t memoryBytes() const { return output.pixels.capacity() * sizeof(vec3) + scale.capacity(); }
+};
+
+// The rectangle of `film` an update redoes at most, as a share of the image: beyond it a whole
+// reconstruction costs about as much.
+inline constexpr double kMaxUpdateShare = 0.5;
+
+// Brings `kept`, a reconstruction of `film` made before the pixels marked in `changed` (one
+// entry per pixel) took more samples, up to date. A pixel's output reads the input out to
+// recon::reach(config) around it, so only the pixels that near a changed one are redone, from
+// the rectangle of the film around them out to that reach again; the others keep their
+// output. The result is that of reconstructFilm(film, config, kept.depthScale), bit for bit.
+// False, and `kept` as it was, when that rectangle holds more than kMaxUpdateShare of the
+// image or the update was cancelled.
+bool updateReconstruction(const Film& film, const recon::DenoiseConfig& config,
+                          const std::vector<uint8_t>& changed, KeptReconstruction& kept,
+                          const std::atomic<bool>* cancel = nullptr);
+
+// A method's pictures, each reconstructPicture's, but made from the last one where they can
+// be: a picture that is neither final nor at half resolution (reconstructsCoarsely) after such
+// a one redoes only the pixels near those that took samples since (updateReconstruction, with
+// that picture's depth scale, so that it is a whole reconstruction with that scale). Where the
+// adaptive rounds' samples land on part of a large image (an asset before a sky), a picture
+// then costs that part's share. The last picture's output and scales are kept for it, and a
+// flag a pixel: 14 bytes a pixel.
+class PictureReconstruction {
+ public:
+  // Pixel p took samples (call it from any thread, each pixel from one).
+  void changed(size_t p) {
+    if (!changed_.empty()) changed_[p] = 1;
+  }
+  // The picture of `film` at samplesPerPixel; its mseEstimate and varianceRatio are empty when
+  // it was updated from the last one.
+  recon::DenoiseResult reconstruct(const Film& film, const recon::DenoiseConfig& config,
+                                   double samplesPerPixel, bool final,
+                                   const std::atomic<bool>* cancel = nullptr);
+  size_t memoryBytes() const { return changed_.capacity() + (kept_ ? kept_->memoryBytes() : 0); }
+
+ private:
+  std::optional<KeptReconstruction> kept_;
+  std::vector<uint8_t> changed_;  // since kept_ was made; empty before it
+};
 
 // Images of at least this many pixels (512x512) reconstruct their first pictures at half
 // resolution (recon::denoiseCoarse): below it the full reconstruction takes a few tenths of a

@@ -19,13 +19,17 @@ namespace {
 constexpr double kMinPublishInterval = 0.2;
 // A snapshot's reconstruction may cost as much as the tracing between two of them for the
 // first kSettleSeconds after a (re)start, when each picture shows much more than the last
-// (1, 2, 4 samples per pixel). From then on the tracing between two snapshots grows with the
+// (1, 2, 4, 5, 6 samples per pixel). At 1280x720 BP's first full-resolution picture (5 spp,
+// about 2.7 s after a move on two cores) costs 0.6 s and the next ones a quarter of that (they
+// redo only what the adaptive round's samples changed): with 2 s here the 6-spp picture, due
+// 0.84 s after the 5-spp one, waited for 0.87 s of tracing and came at 4.8 s with 7 spp. From
+// then on the tracing between two snapshots grows with the
 // time since the start, to kMaxTraceRatio times the last snapshot's cost, so that snapshots
 // take at most 1 / (1 + kMaxTraceRatio) of a long run (a 1280x720 reconstruction costs about
 // as much as a round of tracing: publishing after every round halved the window's trace speed).
 // A small image, whose snapshots cost a few hundredths of a second, still publishes every
 // kMinPublishInterval.
-constexpr double kSettleSeconds = 2.0;
+constexpr double kSettleSeconds = 4.0;
 constexpr double kMaxTraceRatio = 6.0;
 // The first rounds of a method publish whatever they cost: the coarse pass of ALGORITHM.md §15
 // (1 + 1 + 2 samples per pixel), each of whose pictures halves the noise of the last. By the

@@ -134,7 +134,7 @@ const char* toString(RenderSession::State state);
 
 // The publishing rule of a running session: seconds from one published snapshot to the next,
 // `elapsed` seconds after the method's start, the last snapshot having cost `lastCost` seconds.
-// At least a fifth of a second; for the first two seconds the last snapshot's cost (the
+// At least a fifth of a second; for the first four seconds the last snapshot's cost (the
 // pictures right after a move come as fast as the reconstruction allows); then a growing
 // multiple of it, up to 6 (snapshots take at most a seventh of a long run's time).
 double publishInterval(double elapsed, double lastCost);

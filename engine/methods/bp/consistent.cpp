@@ -174,6 +174,7 @@ class ConsistentMethod final : public ProgressiveMethod {
   // snapshot has taken its output, only its scale (the inspector's filter window).
   std::optional<recon::DenoiseResult> lastReconstruction_;
   int reconstructedAtRound_ = -1;
+  PictureReconstruction pictures_;  // the last picture, kept to update it
   uint32_t setSize_;
   std::vector<int> coarseSteps_;
   size_t coarseStepsDone_ = 0;
@@ -193,7 +194,7 @@ size_t ConsistentMethod::memoryBytes() const {
   size_t bytes = s_.memoryBytes() + film_.memoryBytes() + (nets_ ? nets_->memoryBytes() : 0) +
                  bytesOf(sliceDrawn_) + bytesOf(trainedAt_) + bytesOf(drawn_) + bytesOf(rays_) +
                  bytesOf(addedLastRound_) + bytesOf(errorAtReconstruction_) +
-                 bytesOf(countAtReconstruction_);
+                 bytesOf(countAtReconstruction_) + pictures_.memoryBytes();
   if (lastReconstruction_) {
     const recon::DenoiseResult& r = *lastReconstruction_;
     bytes += bytesOf(r.output.pixels) + bytesOf(r.scale) + bytesOf(r.mseEstimate) +
@@ -241,6 +242,7 @@ uint64_t ConsistentMethod::tracePixel(size_t p, uint32_t count, TraceChunk& chun
     // With a network, the film takes the sample less the network's part of it (a control
     // variate: methods/bp/net_recon.h).
     film_.add(p, nets_ ? L - nets_->correction(p, px, py, cs, features) : L, features, slice);
+    pictures_.changed(p);
     if (!usesNetworks()) continue;  // the reservoirs only feed the networks
     if (coarse)
       coarse->push_back({cs, L});
@@ -632,8 +634,7 @@ std::shared_ptr<Snapshot> ConsistentMethod::snapshot(bool reconstructImage,
         lastReconstruction_->output.empty()) {
       lastReconstruction_.reset();  // not held with the new one
       const auto start = Clock::now();
-      // The first pictures of a large image at half resolution (reconstructPicture).
-      recon::DenoiseResult r = reconstructPicture(
+      recon::DenoiseResult r = pictures_.reconstruct(
           film_, config_.denoise, double(s_.spent) / double(s_.pixelCount), snap->final, cancel);
       s_.times.reconstruct += secondsSince(start);
       if (cancel && cancel->load()) return snap;  // the method is being replaced: dropped

@@ -329,13 +329,6 @@ std::string validate(const DenoiseConfig& config) {
 
 namespace {
 
-// The rows of an input beyond a band's own that its output needs on either side: the SURE
-// maps' box, then the widest window and the patch (and the features' gradients) around those.
-int bandHalo(const DenoiseConfig& config) {
-  return config.sureSmoothRadius + (config.radii.empty() ? 0 : config.radii.back()) +
-         config.patchRadius + 1;
-}
-
 // A result of width x height before any pixel is filtered: black, scale 0 (the identity), no
 // error, variance ratio 1.
 DenoiseResult sizedResult(int width, int height) {
@@ -351,7 +344,7 @@ DenoiseResult sizedResult(int width, int height) {
 // denoiseDetailed for the output rows [outFirst, outLast) of `in` (the result holds those rows
 // only): the bank is swept over them and sureSmoothRadius rows either side, whose SURE the
 // box reads; every row of `in` may be read as a neighbour. For a pixel whose rows out to
-// bandHalo(config) lie in `in` (or end where the image does), the result is the whole
+// reach(config) lie in `in` (or end where the image does), the result is the whole
 // image's, bit for bit: every step is the pixel's own or reads a fixed neighbourhood.
 DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
                           DenoiseDetail* detail, const std::atomic<bool>* cancel,
@@ -450,6 +443,23 @@ DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config,
 
 }  // namespace
 
+int reach(const DenoiseConfig& config) {
+  return config.sureSmoothRadius + (config.radii.empty() ? 0 : config.radii.back()) +
+         config.patchRadius + 1;
+}
+
+DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config, int first, int last,
+                          const std::atomic<bool>* cancel) {
+  if (const std::string problem = validate(config); !problem.empty())
+    throw std::invalid_argument("denoise: " + problem);
+  checkInput(in);
+  if (first < 0 || last > in.height || first >= last)
+    throw std::invalid_argument("denoise: rows " + std::to_string(first) + " to " +
+                                std::to_string(last) + " are not within the input's " +
+                                std::to_string(in.height));
+  return denoiseRows(in, config, nullptr, cancel, {}, first, last);
+}
+
 DenoiseInput rowsOf(const DenoiseInput& in, int first, int last) {
   DenoiseInput out = in;
   out.height = last - first;
@@ -487,7 +497,7 @@ DenoiseResult denoiseInBands(int width, int height, const DenoiseConfig& config,
                                 std::to_string(height) + " or band rows " +
                                 std::to_string(bandRows) + " is < 1");
   DenoiseResult result = sizedResult(width, height);
-  const int halo = bandHalo(config);
+  const int halo = reach(config);
   for (int y0 = 0; y0 < height; y0 += bandRows) {
     if (cancel && cancel->load(std::memory_order_relaxed)) break;
     const int y1 = std::min(height, y0 + bandRows);

@@ -158,6 +158,19 @@ DenoiseResult denoiseDetailed(const DenoiseInput& in, const DenoiseConfig& confi
 // Rows [first, last) of an input: every span that is not empty cut to them.
 DenoiseInput rowsOf(const DenoiseInput& in, int first, int last);
 
+// How far from a pixel (in rows and in columns) its output reads the input: the SURE maps' box,
+// then the widest window, the patch and the features' gradients around those.
+int reach(const DenoiseConfig& config);
+
+// denoise of the output rows [first, last) of `in` only (the result has last - first rows of
+// in.width): the bank is swept over them and sureSmoothRadius rows either side. A pixel whose
+// input out to reach(config) lies in `in` (or ends where the whole image does) gets the output
+// that denoise of the whole image gives it, bit for bit: every step is the pixel's own or reads
+// a fixed neighbourhood, in the same order wherever the pixel lies. So an input cut from a
+// larger image, rows and columns, gives that image's output away from the cut's own edges.
+DenoiseResult denoiseRows(const DenoiseInput& in, const DenoiseConfig& config, int first, int last,
+                          const std::atomic<bool>* cancel = nullptr);
+
 // The input rows [first, last) of an image (all its columns; height last - first): every span
 // that the whole image's input would fill, holding those rows only. The spans must stay valid
 // until the next call.

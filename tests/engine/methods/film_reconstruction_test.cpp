@@ -97,5 +97,123 @@ TEST(FilmReconstruction, AHalfResolutionPictureIsTheCoarseReconstructionOfTheFil
   EXPECT_FALSE(last.output.pixels == coarse.output.pixels);
 }
 
+// A scene's film with edges in every input: two albedos, a disc nearer the camera with its own
+// normal, and a brighter band, each sample with noise; `samples` more per pixel of `region`
+// (x0, y0, x1, y1), marked in `changed`.
+struct Region {
+  int x0, y0, x1, y1;
+};
+void addSamples(Film& film, int samples, Region region, std::mt19937& rng,
+                std::vector<uint8_t>* changed = nullptr) {
+  std::normal_distribution<float> noise(0.0f, 0.3f);
+  const int w = film.width();
+  for (int y = region.y0; y < region.y1; ++y)
+    for (int x = region.x0; x < region.x1; ++x) {
+      const size_t p = size_t(y) * size_t(w) + size_t(x);
+      const bool disc = (x - 70) * (x - 70) + (y - 40) * (y - 40) < 400;
+      for (int i = 0; i < samples; ++i) {
+        PathFeatures f;
+        f.albedo = x < 50 ? vec3(0.2f, 0.5f, 0.8f) : vec3(0.7f, 0.6f, 0.1f);
+        f.normal = disc ? vec3(0.6f, 0.0f, 0.8f) : vec3(0, 0, 1);
+        // Each sample's depth within the pixel's footprint: the mean depth moves with more.
+        f.depth = (disc ? 1.5f : 3.0f + 0.01f * float(y)) * (1.0f + 0.1f * noise(rng));
+        const float light = (y / 12) % 2 ? 1.5f : 0.6f;
+        film.add(p, vec3(light + noise(rng), light * 0.8f + noise(rng), 0.4f + noise(rng)), f);
+      }
+      if (changed) (*changed)[p] = 1;
+    }
+}
+
+// An update redoes only what a region's new samples can change, and gives the whole
+// reconstruction's bits with the kept depth scale: in the image's middle and at its corner.
+TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction) {
+  for (const Region region :
+       {Region{60, 30, 67, 36}, Region{0, 0, 5, 4}, Region{120, 90, 128, 96}}) {
+    Film film(128, 96);
+    std::mt19937 rng(11);
+    addSamples(film, 4, {0, 0, 128, 96}, rng);
+    const recon::DenoiseConfig config;
+    KeptReconstruction kept;
+    kept.depthScale = film.depthScale();
+    recon::DenoiseResult first = reconstructFilm(film, config, kept.depthScale);
+    kept.output = first.output;
+    kept.scale = first.scale;
+    std::vector<uint8_t> changed(film.pixelCount(), 0);
+    addSamples(film, 3, region, rng, &changed);
+    ASSERT_NE(film.depthScale(), kept.depthScale) << "the depth scale must move for this test";
+    ASSERT_TRUE(updateReconstruction(film, config, changed, kept));
+    const recon::DenoiseResult whole = reconstructFilm(film, config, kept.depthScale);
+    size_t moved = 0, far = 0;
+    for (size_t p = 0; p < film.pixelCount(); ++p) {
+      ASSERT_EQ(kept.output.pixels[p], whole.output.pixels[p]) << "pixel " << p;
+      ASSERT_EQ(kept.scale[p], whole.scale[p]) << "pixel " << p;
+      if (kept.output.pixels[p] != first.output.pixels[p]) {
+        ++moved;
+        const int x = int(p % 128), y = int(p / 128);
+        // Nothing moves beyond the reach (and one) of the region.
+        const int reach = recon::reach(config) + 1;
+        if (x < region.x0 - reach || x >= region.x1 + reach || y < region.y0 - reach ||
+            y >= region.y1 + reach)
+          ++far;
+      }
+    }
+    EXPECT_GT(moved, size_t((region.x1 - region.x0) * (region.y1 - region.y0)));
+    EXPECT_EQ(far, 0u);
+  }
+}
+
+// Nothing changed: nothing to do. Changes over most of the image: a whole reconstruction is
+// due, and `kept` stays as it was.
+TEST(FilmReconstruction, AnUpdateOfNothingOrOfMostOfTheImageLeavesTheKeptPicture) {
+  Film film(128, 96);
+  std::mt19937 rng(12);
+  addSamples(film, 4, {0, 0, 128, 96}, rng);
+  const recon::DenoiseConfig config;
+  KeptReconstruction kept;
+  kept.depthScale = film.depthScale();
+  const recon::DenoiseResult first = reconstructFilm(film, config, kept.depthScale);
+  kept.output = first.output;
+  kept.scale = first.scale;
+  std::vector<uint8_t> changed(film.pixelCount(), 0);
+  EXPECT_TRUE(updateReconstruction(film, config, changed, kept));
+  EXPECT_EQ(kept.output.pixels, first.output.pixels);
+  addSamples(film, 1, {10, 10, 100, 80}, rng, &changed);
+  EXPECT_FALSE(updateReconstruction(film, config, changed, kept));
+  EXPECT_EQ(kept.output.pixels, first.output.pixels);
+  EXPECT_EQ(kept.scale, first.scale);
+  std::vector<uint8_t> wrongSize(10, 0);
+  EXPECT_THROW(updateReconstruction(film, config, wrongSize, kept), std::invalid_argument);
+}
+
+// A method's pictures: the first whole, the next updated from it with its depth scale where the
+// samples went to one region, and the final one whole with the film's own.
+TEST(FilmReconstruction, PicturesAreUpdatedFromTheLastAndTheFinalOneIsWhole) {
+  Film film(128, 96);
+  std::mt19937 rng(13);
+  PictureReconstruction pictures;
+  const recon::DenoiseConfig config;
+  auto sample = [&](int samples, Region region) {
+    for (int y = region.y0; y < region.y1; ++y)
+      for (int x = region.x0; x < region.x1; ++x) pictures.changed(size_t(y) * 128 + size_t(x));
+    addSamples(film, samples, region, rng);
+  };
+  sample(4, {0, 0, 128, 96});
+  const float firstScale = film.depthScale();
+  const recon::DenoiseResult first = pictures.reconstruct(film, config, 4, false);
+  EXPECT_EQ(first.output.pixels, reconstructFilm(film, config).output.pixels);
+  EXPECT_FALSE(first.mseEstimate.empty());  // made whole
+  EXPECT_GE(pictures.memoryBytes(), size_t(14) * film.pixelCount());
+  sample(2, {80, 20, 90, 30});
+  ASSERT_NE(film.depthScale(), firstScale);
+  const recon::DenoiseResult second = pictures.reconstruct(film, config, 4.02, false);
+  EXPECT_TRUE(second.mseEstimate.empty());  // updated
+  EXPECT_EQ(second.output.pixels, reconstructFilm(film, config, firstScale).output.pixels);
+  EXPECT_EQ(second.scale, reconstructFilm(film, config, firstScale).scale);
+  EXPECT_NE(second.output.pixels, first.output.pixels);
+  sample(2, {20, 60, 26, 66});
+  const recon::DenoiseResult last = pictures.reconstruct(film, config, 4.03, true);
+  EXPECT_EQ(last.output.pixels, reconstructFilm(film, config).output.pixels);
+}
+
 }  // namespace
 }  // namespace penumbra

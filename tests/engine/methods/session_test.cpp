@@ -21,15 +21,15 @@ namespace {
 std::shared_ptr<PreparedScene> cornell(int size) { return test::shippedScene("cornell", size); }
 
 // The publishing rule: a snapshot as costly as a round of a large image is published after
-// every round right after a start, and from two seconds on after more and more tracing, up to
+// every round right after a start, and from four seconds on after more and more tracing, up to
 // six times its cost; a cheap one (a small image) a few times a second throughout.
 TEST(PublishInterval, LetsCostlySnapshotsTakeAShrinkingShareOfTheTime) {
   EXPECT_DOUBLE_EQ(publishInterval(0.0, 0.01), 0.2);
   EXPECT_DOUBLE_EQ(publishInterval(60.0, 0.01), 0.2);
   EXPECT_DOUBLE_EQ(publishInterval(0.5, 0.8), 0.8);
-  EXPECT_DOUBLE_EQ(publishInterval(2.0, 0.8), 0.8);
-  EXPECT_DOUBLE_EQ(publishInterval(4.0, 0.8), 1.6);
-  EXPECT_DOUBLE_EQ(publishInterval(12.0, 0.8), 4.8);
+  EXPECT_DOUBLE_EQ(publishInterval(4.0, 0.8), 0.8);
+  EXPECT_DOUBLE_EQ(publishInterval(8.0, 0.8), 1.6);
+  EXPECT_DOUBLE_EQ(publishInterval(24.0, 0.8), 4.8);
   EXPECT_DOUBLE_EQ(publishInterval(600.0, 0.8), 4.8);
   // Snapshots' share of a long run: cost / (interval + cost) <= 1/7.
   EXPECT_LE(0.8 / (publishInterval(600.0, 0.8) + 0.8), 1.0 / 7.0 + 1e-12);
