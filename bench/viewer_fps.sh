@@ -14,7 +14,9 @@
 # reconstructed; in a window of its own, without the saves), the window's trace speed against a batch render's (kept samples per second),
 # and the shown picture's relMSE against an LD render of REF_SPP (default 64) at 0.5, 1, 2 and
 # 4 s, and the reference's own noise: half the relMSE between it and a second reference of
-# another seed. A figure near that floor is not resolved (raise REF_SPP). BP_FLAGS (say
+# another seed. A figure near that floor is not resolved (raise REF_SPP, or give a reference
+# rendered once as REF_EXR, with its own relMSE as REF_FLOOR). The references take seeds 2 and 1,
+# not the windows' 0, whose samples they would otherwise share. BP_FLAGS (say
 # "--coarse-recon-spp 4") go to the default method's batch render and window.
 # With --asset --glb: the same for the asset's .glb opened directly (no floor, no set: lit by
 # the default environment), as an artist opens a model. With --asset --on SCENE: the same for
@@ -100,13 +102,22 @@ if [ $asset -eq 1 ]; then
   [ $glb -eq 1 ] && scene=build/bench/asset_scene/asset.glb
   [ -n "$on" ] && scene=$on
   ref_spp=${REF_SPP:-64}
-  echo "asset scene $scene at $size: references (LD, $ref_spp spp, two seeds)..."
-  build/penumbra render "$scene" --method ld --spp "$ref_spp" --size $size -q -o "$work/ref.exr" \
-    2>/dev/null
-  build/penumbra render "$scene" --method ld --spp "$ref_spp" --seed 1 --size $size -q \
-    -o "$work/ref2.exr" 2>/dev/null
-  build/penumbra diff "$work/ref2.exr" "$work/ref.exr" | awk '$1 == "rel_mse" {print $2 / 2}' \
-    >"$work/floor.txt"
+  if [ -n "${REF_EXR:-}" ]; then
+    # A reference rendered once (say 2048 spp, another seed than the windows' 0), and its own
+    # noise as REF_FLOOR when known.
+    echo "asset scene $scene at $size: reference $REF_EXR"
+    cp "$REF_EXR" "$work/ref.exr"
+    ref_spp="given"
+    echo "${REF_FLOOR:-nan}" >"$work/floor.txt"
+  else
+    echo "asset scene $scene at $size: references (LD, $ref_spp spp, two seeds)..."
+    build/penumbra render "$scene" --method ld --spp "$ref_spp" --seed 2 --size $size -q \
+      -o "$work/ref.exr" 2>/dev/null
+    build/penumbra render "$scene" --method ld --spp "$ref_spp" --seed 1 --size $size -q \
+      -o "$work/ref2.exr" 2>/dev/null
+    build/penumbra diff "$work/ref2.exr" "$work/ref.exr" | awk '$1 == "rel_mse" {print $2 / 2}' \
+      >"$work/floor.txt"
+  fi
   # Opening, then a camera move away and back (an orbit drag and its reverse, so the camera is
   # the reference's again): the saves are 0.5-4 s after the move back, when the scene is loaded
   # and only the restart's work is left, as after any camera move.
