@@ -124,6 +124,14 @@ void addSamples(Film& film, int samples, Region region, std::mt19937& rng,
     }
 }
 
+// The whole reconstruction of `film` (into `whole`) as a kept picture.
+KeptReconstruction keptWhole(const Film& film, const recon::DenoiseConfig& config,
+                             recon::DenoiseResult& whole) {
+  const float depthScale = film.depthScale();
+  whole = reconstructFilm(film, config, depthScale);
+  return {whole.output, whole.scale, depthScale};
+}
+
 // An update redoes only what a region's new samples can change, and gives the whole
 // reconstruction's bits with the kept depth scale: in the image's middle and at its corner.
 TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction) {
@@ -133,11 +141,8 @@ TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction
     std::mt19937 rng(11);
     addSamples(film, 4, {0, 0, 128, 96}, rng);
     const recon::DenoiseConfig config;
-    KeptReconstruction kept;
-    kept.depthScale = film.depthScale();
-    recon::DenoiseResult first = reconstructFilm(film, config, kept.depthScale);
-    kept.output = first.output;
-    kept.scale = first.scale;
+    recon::DenoiseResult first;
+    KeptReconstruction kept = keptWhole(film, config, first);
     std::vector<uint8_t> changed(film.pixelCount(), 0);
     addSamples(film, 3, region, rng, &changed);
     ASSERT_NE(film.depthScale(), kept.depthScale) << "the depth scale must move for this test";
@@ -169,11 +174,8 @@ TEST(FilmReconstruction, AnUpdateOfNothingOrOfMostOfTheImageLeavesTheKeptPicture
   std::mt19937 rng(12);
   addSamples(film, 4, {0, 0, 128, 96}, rng);
   const recon::DenoiseConfig config;
-  KeptReconstruction kept;
-  kept.depthScale = film.depthScale();
-  const recon::DenoiseResult first = reconstructFilm(film, config, kept.depthScale);
-  kept.output = first.output;
-  kept.scale = first.scale;
+  recon::DenoiseResult first;
+  KeptReconstruction kept = keptWhole(film, config, first);
   std::vector<uint8_t> changed(film.pixelCount(), 0);
   EXPECT_TRUE(updateReconstruction(film, config, changed, kept));
   EXPECT_EQ(kept.output.pixels, first.output.pixels);
