@@ -90,7 +90,7 @@ recon::DenoiseResult reconstructFilm(const Film& film, const recon::DenoiseConfi
 
 bool updateReconstruction(const Film& film, const recon::DenoiseConfig& config,
                           const std::vector<uint8_t>& changed, KeptReconstruction& kept,
-                          const std::atomic<bool>* cancel) {
+                          const std::atomic<bool>* cancel, int bandRows) {
   const int width = film.width(), height = film.height();
   const size_t w = size_t(width);
   if (changed.size() != film.pixelCount() || kept.output.width != width ||
@@ -119,17 +119,26 @@ bool updateReconstruction(const Film& film, const recon::DenoiseConfig& config,
   const int ox0 = std::max(0, x0 - grow), ox1 = std::min(width, x1 + grow);
   const int oy0 = std::max(0, y0 - grow), oy1 = std::min(height, y1 + grow);
   const int ix0 = std::max(0, ox0 - reach), ix1 = std::min(width, ox1 + reach);
-  const int iy0 = std::max(0, oy0 - reach), iy1 = std::min(height, oy1 + reach);
+  const int iy0 = std::max(0, oy0 - reach), iy1 = std::min(height, oy1 + reach);  // its input
   if (double(ix1 - ix0) * double(iy1 - iy0) > kMaxUpdateShare * double(w) * double(height))
     return false;
-  FilmBuffers b;
-  film.fillBuffers(b, kReconstructionParts, iy0, iy1, kept.depthScale, ix0, ix1);
-  const recon::DenoiseResult part =
-      recon::denoiseRows(inputOf(b), config, oy0 - iy0, oy1 - iy0, cancel);
-  if (cancel && cancel->load()) return false;
+  // In bands of rows of the rectangle, each from its own input rows, as a whole
+  // reconstruction of a large image is made (its planes stay near kBandPixels), and written to
+  // `kept` only once all are made.
   const size_t partWidth = size_t(ix1 - ix0), columns = size_t(ox1 - ox0);
+  if (bandRows <= 0) bandRows = int(std::max<size_t>(64, kBandPixels / partWidth));
+  std::vector<recon::DenoiseResult> parts;
+  FilmBuffers b;
+  for (int y = oy0; y < oy1; y += bandRows) {
+    const int last = std::min(oy1, y + bandRows);
+    const int first = std::max(0, y - reach), end = std::min(height, last + reach);
+    film.fillBuffers(b, kReconstructionParts, first, end, kept.depthScale, ix0, ix1);
+    parts.push_back(recon::denoiseRows(inputOf(b), config, y - first, last - first, cancel));
+    if (cancel && cancel->load()) return false;
+  }
   for (int y = oy0; y < oy1; ++y) {
-    const size_t from = size_t(y - oy0) * partWidth + size_t(ox0 - ix0);
+    const recon::DenoiseResult& part = parts[size_t((y - oy0) / bandRows)];
+    const size_t from = size_t((y - oy0) % bandRows) * partWidth + size_t(ox0 - ix0);
     const size_t to = size_t(y) * w + size_t(ox0);
     std::copy_n(part.output.pixels.begin() + ptrdiff_t(from), columns,
                 kept.output.pixels.begin() + ptrdiff_t(to));

@@ -38,14 +38,16 @@ inline constexpr double kMaxUpdateShare = 0.5;
 
 // Brings `kept`, a reconstruction of `film` made before the pixels marked in `changed` (one
 // entry per pixel) took more samples, up to date. A pixel's output reads the input out to
-// recon::reach(config) around it, so only the pixels that near a changed one are redone, from
+// recon::reach(config) around it, so only the pixels near a changed one are redone, from
 // the rectangle of the film around them out to that reach again; the others keep their
 // output. The result is that of reconstructFilm(film, config, kept.depthScale), bit for bit.
 // False, and `kept` as it was, when that rectangle holds more than kMaxUpdateShare of the
-// image or the update was cancelled.
+// image or the update was cancelled. The rectangle is redone in bands of `bandRows` rows (0:
+// as many as keep a band's planes near a quarter of a million pixels, as a whole
+// reconstruction of a large image), each from its own rows of the film.
 bool updateReconstruction(const Film& film, const recon::DenoiseConfig& config,
                           const std::vector<uint8_t>& changed, KeptReconstruction& kept,
-                          const std::atomic<bool>* cancel = nullptr);
+                          const std::atomic<bool>* cancel = nullptr, int bandRows = 0);
 
 // A method's pictures, each reconstructPicture's, but made from the last one where they can
 // be: a picture that is neither final nor at half resolution (reconstructsCoarsely) after such

@@ -133,10 +133,16 @@ KeptReconstruction keptWhole(const Film& film, const recon::DenoiseConfig& confi
 }
 
 // An update redoes only what a region's new samples can change, and gives the whole
-// reconstruction's bits with the kept depth scale: in the image's middle and at its corner.
+// reconstruction's bits with the kept depth scale: in the image's middle and at its corners, in
+// one band and in bands of 7 rows.
 TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction) {
-  for (const Region region :
-       {Region{60, 30, 67, 36}, Region{0, 0, 5, 4}, Region{120, 90, 128, 96}}) {
+  struct Case {
+    Region region;
+    int bandRows;
+  };
+  for (const auto [region, bandRows] :
+       {Case{{60, 30, 67, 36}, 0}, Case{{0, 0, 5, 4}, 0}, Case{{120, 90, 128, 96}, 0},
+        Case{{60, 30, 67, 36}, 7}, Case{{120, 90, 128, 96}, 7}}) {
     Film film(128, 96);
     std::mt19937 rng(11);
     addSamples(film, 4, {0, 0, 128, 96}, rng);
@@ -146,7 +152,7 @@ TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction
     std::vector<uint8_t> changed(film.pixelCount(), 0);
     addSamples(film, 3, region, rng, &changed);
     ASSERT_NE(film.depthScale(), kept.depthScale) << "the depth scale must move for this test";
-    ASSERT_TRUE(updateReconstruction(film, config, changed, kept));
+    ASSERT_TRUE(updateReconstruction(film, config, changed, kept, nullptr, bandRows));
     const recon::DenoiseResult whole = reconstructFilm(film, config, kept.depthScale);
     size_t moved = 0, far = 0;
     for (size_t p = 0; p < film.pixelCount(); ++p) {
