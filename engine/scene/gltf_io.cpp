@@ -153,9 +153,10 @@ class Converter {
            e == "KHR_materials_specular" || e == "KHR_materials_clearcoat" ||
            e == "KHR_materials_ior" || e == "KHR_materials_volume" || e == "KHR_materials_unlit" ||
            e == "KHR_materials_sheen" || e == "KHR_materials_anisotropy" ||
-           e == "KHR_materials_pbrSpecularGlossiness" || e == "KHR_lights_punctual" ||
-           e == "KHR_texture_transform" || e == "KHR_mesh_quantization" ||
-           e == "EXT_mesh_gpu_instancing" || e == kWebpExtension || isMeshCompression(e);
+           e == "KHR_materials_iridescence" || e == "KHR_materials_pbrSpecularGlossiness" ||
+           e == "KHR_lights_punctual" || e == "KHR_texture_transform" ||
+           e == "KHR_mesh_quantization" || e == "EXT_mesh_gpu_instancing" || e == kWebpExtension ||
+           isMeshCompression(e);
   }
 
   void warn(const std::string& message) {

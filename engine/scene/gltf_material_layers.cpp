@@ -17,6 +17,19 @@ float unitFactor(const tinygltf::Value& extension, const char* key, float fallba
   return std::isfinite(v) ? std::clamp(float(v), 0.0f, 1.0f) : fallback;
 }
 
+// The extension's number `key`, finite and at least `least` (more than 0 when `least` is 0 and
+// `positive`); `fallback` when absent. Throws SceneError naming `field`.key otherwise.
+float readNumber(const std::string& path, const tinygltf::Value& extension, const char* key,
+                 const std::string& field, float fallback, bool positive) {
+  if (!extension.Has(key)) return fallback;
+  const tinygltf::Value& n = extension.Get(key);
+  const double v = n.IsNumber() ? n.GetNumberAsDouble() : NAN;
+  if (!std::isfinite(v) || v < 0.0 || (positive && !(v > 0.0)))
+    fail(path, field + "." + key,
+         positive ? "must be a finite number above 0" : "must be a finite number of at least 0");
+  return float(v);
+}
+
 // The extension's colour `key` (three finite numbers of at least 0, and at most `most`) into
 // `out`; left as it is when absent. Throws SceneError naming `field`.key otherwise.
 void readColor(const std::string& path, const tinygltf::Value& extension, const char* key,
@@ -120,6 +133,21 @@ void readMaterialLayers(const std::string& path, const tinygltf::Material& m,
     }
     out.anisotropyTexture =
         layerTexture(path, e, "anisotropyTexture", field, Texels::Data, texture);
+  }
+  if (const auto it = m.extensions.find("KHR_materials_iridescence");
+      it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& e = it->second;
+    const std::string field = where + ".extensions.KHR_materials_iridescence";
+    out.iridescence = unitFactor(e, "iridescenceFactor", 0.0f);
+    out.iridescenceIor = readNumber(path, e, "iridescenceIor", field, 1.3f, true);
+    out.iridescenceThicknessMin =
+        readNumber(path, e, "iridescenceThicknessMinimum", field, 100.0f, false);
+    out.iridescenceThicknessMax =
+        readNumber(path, e, "iridescenceThicknessMaximum", field, 400.0f, false);
+    out.iridescenceTexture =
+        layerTexture(path, e, "iridescenceTexture", field, Texels::Data, texture);
+    out.iridescenceThicknessTexture =
+        layerTexture(path, e, "iridescenceThicknessTexture", field, Texels::Data, texture);
   }
   if (const auto it = m.extensions.find("KHR_materials_transmission");
       it != m.extensions.end() && it->second.IsObject())

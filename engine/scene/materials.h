@@ -39,6 +39,9 @@ struct SurfaceBsdf {
   ShadingFrame coatFrame;
   vec3 sheen = vec3(0.0f);   // Pbr: the sheen layer's colour (black: none)
   float sheenAlpha = 0.25f;  // and its Charlie alpha, in [kMinSheenAlpha, 1]
+  // Pbr: the iridescent film's share of the specular layer's and the conductor's Fresnel
+  // reflectance (0: none), its index of refraction and its thickness in nanometres.
+  float iridescence = 0.0f, iridescenceIor = 1.3f, iridescenceThickness = 400.0f;
   // Pbr: the parts' weights (sum 1): the dielectric base (diffuse under a specular layer), the
   // conductor, and glass. Evaluation and the pdf cover the base and the conductor (glass is
   // specular).
@@ -71,6 +74,17 @@ float bsdfPdf(const SurfaceBsdf& bsdf, vec3 wo, vec3 wi);
 // u2 picks the direction, u1 picks between reflection and refraction (and first, for Pbr,
 // the part).
 bool sampleBsdf(const SurfaceBsdf& bsdf, vec3 wo, glm::vec2 u2, float u1, BsdfSample& out);
+
+// The Fresnel reflectance, in linear sRGB, of a thin film of index filmIor and `thickness`
+// nanometres in air over a surface whose reflectance at normal incidence is f0, seen at
+// cosTheta from the normal (glTF's KHR_materials_iridescence, after Belcour and Barla 2017, "A
+// Practical Extension to Microfacet Theory for the Modeling of Varying Iridescence"): Airy's sum
+// of the waves reflected between the film's two interfaces, each interface's reflectance by
+// Schlick's approximation and its phase shift pi where light meets a denser medium, integrated
+// against the CIE 1931 colour matching functions in Fourier space (Gaussian fits) for the first
+// two orders of interference. Far thicker films than light's coherence give the two interfaces'
+// incoherent sum R12 + T12^2 R23 / (1 - R12 R23). Clamped to [0, 1].
+vec3 iridescentFresnel(float filmIor, float thickness, float cosTheta, vec3 f0);
 
 // The sheen layer (glTF's KHR_materials_sheen): fibres whose normals follow the Charlie
 // distribution of Estevez and Kulla 2017, D(h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi),

@@ -123,6 +123,15 @@ struct Material {
   float anisotropyStrength = 0.0f;
   float anisotropyRotation = 0.0f;
   int anisotropyTexture = -1;
+  // Pbr: glTF's KHR_materials_iridescence: a thin film over the base's specular layer and the
+  // conductor, whose Fresnel reflectance replaces theirs in the share `iridescence` (times the
+  // texture's red). Its index of refraction, and its thickness in nanometres: the maximum, or
+  // mix(minimum, maximum, green) of the thickness texture (linear data).
+  float iridescence = 0.0f;
+  int iridescenceTexture = -1;
+  float iridescenceIor = 1.3f;
+  float iridescenceThicknessMin = 100.0f, iridescenceThicknessMax = 400.0f;
+  int iridescenceThicknessTexture = -1;
   // Pbr and Dielectric: glTF's KHR_materials_volume: light travelling inside the (closed) object
   // keeps attenuationColor^(distance / attenuationDistance) of itself; an infinite distance
   // absorbs nothing.
@@ -160,7 +169,7 @@ struct Material {
            attenuationColor != vec3(1.0f);
   }
   // Every texture id of the material (-1 where it has none).
-  std::array<int*, 14> textureIds() {
+  std::array<int*, 16> textureIds() {
     return {&albedoTexture,
             &metallicRoughnessTexture,
             &emissionTexture,
@@ -174,7 +183,9 @@ struct Material {
             &sheenRoughnessTexture,
             &transmissionTexture,
             &anisotropyTexture,
-            &clearcoatNormalTexture};
+            &clearcoatNormalTexture,
+            &iridescenceTexture,
+            &iridescenceThicknessTexture};
   }
   // Whether its surface reads a texture when shaded (cut-outs are Embree's): its hits need
   // their uv footprint.
@@ -183,7 +194,8 @@ struct Material {
            normalTexture >= 0 || specularTexture >= 0 || specularColorTexture >= 0 ||
            clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0 || sheenColorTexture >= 0 ||
            sheenRoughnessTexture >= 0 || transmissionTexture >= 0 || anisotropyTexture >= 0 ||
-           clearcoatNormalTexture >= 0;
+           clearcoatNormalTexture >= 0 || iridescenceTexture >= 0 ||
+           iridescenceThicknessTexture >= 0;
   }
 };
 

@@ -83,6 +83,17 @@ SurfaceBsdf makeBsdf(const Scene& scene, const SurfaceHit& s) {
       b.sheen = glm::clamp(b.sheen, vec3(0.0f), vec3(1.0f));
       b.sheenAlpha = std::clamp(sheenRoughness * sheenRoughness, kMinSheenAlpha, 1.0f);
     }
+    if (m.iridescence > 0) {
+      b.iridescence = m.iridescence;
+      if (m.iridescenceTexture >= 0)
+        b.iridescence *= std::clamp(texel(m.iridescenceTexture).x, 0.0f, 1.0f);
+      b.iridescenceIor = m.iridescenceIor;
+      b.iridescenceThickness =
+          m.iridescenceThicknessTexture >= 0
+              ? glm::mix(m.iridescenceThicknessMin, m.iridescenceThicknessMax,
+                         std::clamp(texel(m.iridescenceThicknessTexture).y, 0.0f, 1.0f))
+              : m.iridescenceThicknessMax;
+    }
   }
   const float alpha = roughness * roughness;
   b.alpha = std::clamp(alpha, 1e-3f, 1.0f);

@@ -134,6 +134,12 @@ std::string layeredMaterialsGltf() {
                                    {"anisotropyRotation", 0.5},
                                    {"anisotropyTexture", {{"index", 1}}}};
   e["KHR_materials_transmission"]["transmissionTexture"] = {{"index", 1}};
+  e["KHR_materials_iridescence"] = {{"iridescenceFactor", 0.8},
+                                    {"iridescenceIor", 1.4},
+                                    {"iridescenceThicknessMinimum", 150},
+                                    {"iridescenceThicknessMaximum", 500},
+                                    {"iridescenceTexture", {{"index", 0}}},
+                                    {"iridescenceThicknessTexture", {{"index", 1}}}};
   j["materials"].push_back(
       {{"extensions",
         {{"KHR_materials_pbrSpecularGlossiness",
@@ -147,8 +153,8 @@ std::string layeredMaterialsGltf() {
   second["material"] = 1;
   second["attributes"]["TEXCOORD_1"] = primitive["attributes"]["TEXCOORD_0"];
   j["meshes"][0]["primitives"].push_back(second);
-  for (const char* name :
-       {"KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_pbrSpecularGlossiness"})
+  for (const char* name : {"KHR_materials_sheen", "KHR_materials_anisotropy",
+                           "KHR_materials_pbrSpecularGlossiness", "KHR_materials_iridescence"})
     j["extensionsUsed"].push_back(name);
   return j.dump();
 }

@@ -558,13 +558,13 @@ TEST(Gltf, FeaturesNotRenderedAreNamedInWarnings) {
   j["materials"][0]["occlusionTexture"] = {{"index", 0}};
   j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   j["materials"][1]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
-  j["extensionsUsed"].push_back("KHR_materials_iridescence");
+  j["extensionsUsed"].push_back("KHR_materials_dispersion");
   const GltfData g = loadGltf(writeGltf("features.gltf", j));
   const std::string all = allWarnings(g);
   for (const char* part : {"materials[0]: occlusionTexture is ignored",
                            "materials[1].normalTexture: uv set 1 is not read; uv set 0 is "
                            "used (materials[1].baseColorTexture's",
-                           "extension KHR_materials_iridescence is not supported"})
+                           "extension KHR_materials_dispersion is not supported"})
     EXPECT_NE(all.find(part), std::string::npos) << "'" << part << "' not in:\n" << all;
 }
 

@@ -95,6 +95,49 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_EQ(all.find("KHR_materials_clearcoat is not supported"), std::string::npos) << all;
 }
 
+// KHR_materials_iridescence: the factor, the film's index and thickness range, the factor's
+// texture (red) and the thickness texture (green), both linear; a negative thickness is an error.
+TEST(Gltf, IridescenceExtensionIsRead) {
+  const std::string buffer = quadBuffer();
+  Json j = quadGltf(dataUri(buffer), buffer.size());
+  j["materials"][2]["extensions"]["KHR_materials_iridescence"] = {
+      {"iridescenceFactor", 0.75},
+      {"iridescenceIor", 1.8},
+      {"iridescenceThicknessMinimum", 200.0},
+      {"iridescenceThicknessMaximum", 600.0},
+      {"iridescenceTexture", {{"index", 0}}},
+      {"iridescenceThicknessTexture", {{"index", 0}}}};
+  j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
+  j["textures"] = {{{"source", 0}}};
+  j["extensionsUsed"].push_back("KHR_materials_iridescence");
+  const GltfData g = loadGltf(writeGltf("iridescence.gltf", j));
+  const Material& m = g.materials[2];
+  EXPECT_FLOAT_EQ(m.iridescence, 0.75f);
+  EXPECT_FLOAT_EQ(m.iridescenceIor, 1.8f);
+  EXPECT_FLOAT_EQ(m.iridescenceThicknessMin, 200.0f);
+  EXPECT_FLOAT_EQ(m.iridescenceThicknessMax, 600.0f);
+  EXPECT_EQ(g.materials[0].iridescence, 0.0f) << "without the extension";
+  ASSERT_GE(m.iridescenceTexture, 0);
+  ASSERT_GE(m.iridescenceThicknessTexture, 0);
+  const TextureImage& t = g.images[size_t(g.textures[size_t(m.iridescenceTexture)].imageIndex)];
+  EXPECT_EQ(t.encoding, TexelEncoding::Linear8);
+  EXPECT_NEAR(textureTexel(t, 0, 0, 0).y, 0.4f, 1e-6f);
+  const std::string all = allWarnings(g);
+  EXPECT_EQ(all.find("KHR_materials_iridescence"), std::string::npos) << all;
+  // The defaults: index 1.3, 100 to 400 nm.
+  j["materials"][2]["extensions"]["KHR_materials_iridescence"] = {{"iridescenceFactor", 1.0}};
+  const Material d = loadGltf(writeGltf("defaults.gltf", j)).materials[2];
+  EXPECT_FLOAT_EQ(d.iridescenceIor, 1.3f);
+  EXPECT_FLOAT_EQ(d.iridescenceThicknessMin, 100.0f);
+  EXPECT_FLOAT_EQ(d.iridescenceThicknessMax, 400.0f);
+  j["materials"][2]["extensions"]["KHR_materials_iridescence"]["iridescenceThicknessMaximum"] =
+      -5.0;
+  expectSceneError(
+      [&] { loadGltf(writeGltf("bad.gltf", j)); },
+      {"bad.gltf", "materials[2].extensions.KHR_materials_iridescence.iridescenceThicknessMaximum",
+       "at least 0"});
+}
+
 TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());

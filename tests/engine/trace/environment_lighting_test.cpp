@@ -206,6 +206,32 @@ TEST(EnvironmentLighting, SheenReflectsItsDirectionalAlbedoOfTheSky) {
             4 * sheenAlbedo(1.0f, 0.25f));
 }
 
+TEST(EnvironmentLighting, AnIridescentFilmReplacesItsShareOfTheFresnelReflectance) {
+  // Black plastic (4 % straight on) under a film of index 1.3 thick enough that its two
+  // interfaces add incoherently: R12 + (1 - R12)^2 R23 / (1 - R12 R23) = 2.194 % straight on.
+  // The factor's texture (red 0.5) keeps half of the plastic's own; the thickness texture's
+  // green (1) picks the maximum of the range.
+  const auto film = [](bool textured) {
+    return glossyBlackPlane(0.0f, 1.5f, 1.0f, [&](Material& m, Scene& scene) {
+      m.iridescence = 1.0f;
+      m.iridescenceIor = 1.3f;
+      m.iridescenceThicknessMin = 0.0f;
+      m.iridescenceThicknessMax = 50000.0f;
+      if (!textured) return;
+      scene.images.push_back(makeTextureImage(Image(1, 1, vec3(0.5f, 1.0f, 0.0f))));
+      Texture t;
+      t.kind = Texture::Kind::Image;
+      t.imageIndex = int(scene.images.size()) - 1;
+      scene.textures.push_back(t);
+      m.iridescenceTexture = m.iridescenceThicknessTexture = int(scene.textures.size()) - 1;
+    });
+  };
+  const Stats thick = film(false);
+  EXPECT_NEAR(thick.mean, 0.02194, std::max(4 * thick.standardError, 2e-3));
+  const Stats half = film(true);
+  EXPECT_NEAR(half.mean, 0.5 * (0.04 + 0.02194), std::max(4 * half.standardError, 2e-3));
+}
+
 TEST(EnvironmentLighting, PbrBaseUnderAConstantMapLosesNoMoreThanItsFresnelShare) {
   // A white dielectric base (albedo 1) under a constant sky of 1: the diffuse part carries
   // 1 - F of the light and the layer F, so nearly all of it comes back (glTF's fresnel_mix is
