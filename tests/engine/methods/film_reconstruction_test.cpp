@@ -124,13 +124,22 @@ void addSamples(Film& film, int samples, Region region, std::mt19937& rng,
     }
 }
 
-// The whole reconstruction of `film` (into `whole`) as a kept picture.
-KeptReconstruction keptWhole(const Film& film, const recon::DenoiseConfig& config,
-                             recon::DenoiseResult& whole) {
-  const float depthScale = film.depthScale();
-  whole = reconstructFilm(film, config, depthScale);
-  return {whole.output, whole.scale, depthScale};
-}
+// A 128x96 film of 4 samples a pixel (seeded by `seed`), its whole reconstruction `first`, kept
+// with its depth scale, and no pixel changed since.
+struct Kept {
+  Film film{128, 96};
+  std::mt19937 rng;
+  recon::DenoiseConfig config;
+  recon::DenoiseResult first;
+  KeptReconstruction kept;
+  std::vector<uint8_t> changed;
+  explicit Kept(uint32_t seed) : rng(seed), changed(film.pixelCount(), 0) {
+    addSamples(film, 4, {0, 0, 128, 96}, rng);
+    const float depthScale = film.depthScale();
+    first = reconstructFilm(film, config, depthScale);
+    kept = {first.output, first.scale, depthScale};
+  }
+};
 
 // An update redoes only what a region's new samples can change, and gives the whole
 // reconstruction's bits with the kept depth scale: in the image's middle and at its corners, in
@@ -143,13 +152,8 @@ TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction
   for (const auto [region, bandRows] :
        {Case{{60, 30, 67, 36}, 0}, Case{{0, 0, 5, 4}, 0}, Case{{120, 90, 128, 96}, 0},
         Case{{60, 30, 67, 36}, 7}, Case{{120, 90, 128, 96}, 7}}) {
-    Film film(128, 96);
-    std::mt19937 rng(11);
-    addSamples(film, 4, {0, 0, 128, 96}, rng);
-    const recon::DenoiseConfig config;
-    recon::DenoiseResult first;
-    KeptReconstruction kept = keptWhole(film, config, first);
-    std::vector<uint8_t> changed(film.pixelCount(), 0);
+    Kept k(11);
+    auto& [film, rng, config, first, kept, changed] = k;
     addSamples(film, 3, region, rng, &changed);
     ASSERT_NE(film.depthScale(), kept.depthScale) << "the depth scale must move for this test";
     ASSERT_TRUE(updateReconstruction(film, config, changed, kept, nullptr, bandRows));
@@ -176,13 +180,8 @@ TEST(FilmReconstruction, AnUpdateAfterARegionsNewSamplesIsTheWholeReconstruction
 // Nothing changed: nothing to do. Changes over most of the image: a whole reconstruction is
 // due, and `kept` stays as it was.
 TEST(FilmReconstruction, AnUpdateOfNothingOrOfMostOfTheImageLeavesTheKeptPicture) {
-  Film film(128, 96);
-  std::mt19937 rng(12);
-  addSamples(film, 4, {0, 0, 128, 96}, rng);
-  const recon::DenoiseConfig config;
-  recon::DenoiseResult first;
-  KeptReconstruction kept = keptWhole(film, config, first);
-  std::vector<uint8_t> changed(film.pixelCount(), 0);
+  Kept k(12);
+  auto& [film, rng, config, first, kept, changed] = k;
   EXPECT_TRUE(updateReconstruction(film, config, changed, kept));
   EXPECT_EQ(kept.output.pixels, first.output.pixels);
   addSamples(film, 1, {10, 10, 100, 80}, rng, &changed);
