@@ -285,6 +285,18 @@ void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) 
   // Radiance is compressed by (n_from/n_to)^2 when crossing into the denser medium.
   out.weight = vec3(eta * eta);
 }
+// Glass under an iridescent film. sampleDielectric chose the reflection with the chance f, the
+// glass's own Fresnel reflectance; the film's share of the reflectance replaces f, so the
+// reflection carries mix(f, film, share) / f and the refraction what that lets through over
+// 1 - f. Under total internal reflection nothing changes.
+void filmOverGlass(const SurfaceBsdf& b, vec3 wo, BsdfSample& out) {
+  const float f = fresnelDielectric(wo.z, b.ior);
+  if (!(f > 0.0f && f < 1.0f)) return;
+  const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
+  const vec3 film = withIridescence(b, vec3(f), std::abs(wo.z), vec3(r * r));
+  const bool reflected = glm::dot(out.wi, b.frame.n) * wo.z > 0;
+  out.weight *= reflected ? film / f : (vec3(1.0f) - film) / (1.0f - f);
+}
 }  // namespace
 
 namespace {
@@ -544,6 +556,7 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       }
       if (uc < b.dielectricWeight) {
         sampleDielectric(b, wo, uc / b.dielectricWeight, out);
+        if (b.iridescence > 0) filmOverGlass(b, wo, out);
         // Transmission is tinted by the base colour (glTF's KHR_materials_transmission).
         if (glm::dot(out.wi, b.frame.n) * wo.z < 0) out.weight *= b.color;
         // Under a coat, glass gets what the coat lets through, over the chance of not drawing it.

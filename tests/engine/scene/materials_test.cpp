@@ -278,6 +278,35 @@ TEST(Iridescence, NoFilmIsTheBareSurfaceAndAQuarterWaveFilmCancelsGreen) {
   EXPECT_GT(grazing.x + grazing.y + grazing.z, 10.0f * (f.x + f.y + f.z));
 }
 
+// Glass of index 1.5 under a 50 um film of index 1.3 (the incoherent sum above): straight on,
+// the reflection carries 2.194 % on average instead of the glass's 4 %, and the refraction the
+// rest, compressed by 1 / 1.5^2.
+TEST(Iridescence, GlassUnderAFilmReflectsTheFilmsShare) {
+  SurfaceBsdf b = sheenSurface(vec3(0.0f), 0.5f, vec3(1.0f));
+  b.diffuseWeight = 0.0f;
+  b.dielectricWeight = 1.0f;
+  b.iridescence = 1.0f;
+  b.iridescenceThickness = 50000.0f;
+  const double film = 0.021943;
+  double reflected = 0, refracted = 0;
+  constexpr int kSamples = 100000;
+  for (int i = 0; i < kSamples; ++i) {
+    BsdfSample s;
+    ASSERT_TRUE(sampleBsdf(b, vec3(0, 0, 1), glm::vec2(0.5f), (i + 0.5f) / kSamples, s));
+    (s.wi.z > 0 ? reflected : refracted) += s.weight.y;
+  }
+  EXPECT_NEAR(reflected / kSamples, film, 1e-4);
+  EXPECT_NEAR(refracted / kSamples, (1 - film) / 2.25, 1e-4);
+  b.iridescence = 0.0f;
+  reflected = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    BsdfSample s;
+    ASSERT_TRUE(sampleBsdf(b, vec3(0, 0, 1), glm::vec2(0.5f), (i + 0.5f) / kSamples, s));
+    if (s.wi.z > 0) reflected += s.weight.y;
+  }
+  EXPECT_NEAR(reflected / kSamples, 0.04, 1e-4);
+}
+
 // With a film, the Pbr base and the conductor are still sampled as they are evaluated.
 TEST(Iridescence, SamplingDrawsWhatEvaluationAndThePdfSay) {
   Pcg32 rng;
