@@ -413,17 +413,17 @@ namespace {
 // Gaussians (Belcour and Barla 2017, supplemental), turned into linear sRGB and normalised so
 // that a flat spectrum is white.
 vec3 filmSensitivity(float opd, vec3 shift) {
-  const double phase = 2.0 * 3.14159265358979 * double(opd) * 1e-9;
+  const double phase = 2.0 * kPiD * double(opd) * 1e-9;
   const double scale[3] = {5.4856e-13, 4.4201e-13, 5.2481e-13};
   const double position[3] = {1.6810e6, 1.7953e6, 2.2084e6};
   const double variance[3] = {4.3278e9, 9.3046e9, 6.6121e9};
   double xyz[3];
   for (int c = 0; c < 3; ++c)
-    xyz[c] = scale[c] * std::sqrt(2.0 * 3.14159265358979 * variance[c]) *
+    xyz[c] = scale[c] * std::sqrt(2.0 * kPiD * variance[c]) *
              std::cos(position[c] * phase + double(shift[c])) *
              std::exp(-phase * phase * variance[c]);
   // x's second lobe.
-  xyz[0] += 9.7470e-14 * std::sqrt(2.0 * 3.14159265358979 * 4.5282e9) *
+  xyz[0] += 9.7470e-14 * std::sqrt(2.0 * kPiD * 4.5282e9) *
             std::cos(2.2399e6 * phase + double(shift[0])) * std::exp(-4.5282e9 * phase * phase);
   for (double& v : xyz) v /= 1.0685e-7;
   // XYZ to linear sRGB (D65).
@@ -434,7 +434,6 @@ vec3 filmSensitivity(float opd, vec3 shift) {
 }  // namespace
 
 vec3 iridescentFresnel(float filmIor, float thickness, float cosTheta, vec3 f0) {
-  constexpr float kPi = 3.14159265f;
   const float cos1 = std::clamp(cosTheta, 0.0f, 1.0f);
   // Snell's law into the film; beyond the critical angle it reflects everything.
   const float sin2Squared = (1.0f - cos1 * cos1) / (filmIor * filmIor);
