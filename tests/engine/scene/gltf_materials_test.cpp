@@ -20,19 +20,36 @@ namespace {
 using namespace gltf_test;
 using test::expectSceneError;
 
-TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
+// The quad's glTF with material `material` carrying the extension `name` (listed in
+// extensionsUsed) and one texture per image of `imageUris`, in order.
+Json quadWithExtension(int material, const char* name, Json extension,
+                       const std::vector<std::string>& imageUris) {
   const std::string buffer = quadBuffer();
   Json j = quadGltf(dataUri(buffer), buffer.size());
-  j["materials"][0]["extensions"]["KHR_materials_specular"] = {
-      {"specularFactor", 0.5},
-      {"specularColorFactor", {1.0, 0.5, 0.25}},
-      {"specularTexture", {{"index", 0}}},
-      {"specularColorTexture", {{"index", 1}}}};
+  j["materials"][material]["extensions"][name] = std::move(extension);
+  j["images"] = Json::array();
+  j["textures"] = Json::array();
+  for (size_t i = 0; i < imageUris.size(); ++i) {
+    j["images"].push_back({{"uri", imageUris[i]}});
+    j["textures"].push_back({{"source", i}});
+  }
+  j["extensionsUsed"].push_back(name);
+  return j;
+}
+
+// The image that texture `texture` of `g` reads.
+const TextureImage& imageOf(const GltfData& g, int texture) {
+  return g.images[size_t(g.textures[size_t(texture)].imageIndex)];
+}
+
+TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   // Image 0: the weight in its alpha (128); image 1: an sRGB colour.
-  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 128})}},
-                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}}};
-  j["textures"] = {{{"source", 0}}, {{"source", 1}}};
-  j["extensionsUsed"].push_back("KHR_materials_specular");
+  Json j = quadWithExtension(0, "KHR_materials_specular",
+                             {{"specularFactor", 0.5},
+                              {"specularColorFactor", {1.0, 0.5, 0.25}},
+                              {"specularTexture", {{"index", 0}}},
+                              {"specularColorTexture", {{"index", 1}}}},
+                             {pngUri(1, 1, 4, {0, 0, 0, 128}), pngUri(1, 1, 3, {255, 188, 0})});
   const GltfData g = loadGltf(writeGltf("specular.gltf", j));
   const Material& m = g.materials[0];
   EXPECT_FLOAT_EQ(m.specular, 0.5f);
@@ -40,12 +57,11 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
   EXPECT_FLOAT_EQ(g.materials[1].specular, 1.0f) << "without the extension";
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
   ASSERT_GE(m.specularTexture, 0);
-  const TextureImage& weight = g.images[size_t(g.textures[size_t(m.specularTexture)].imageIndex)];
+  const TextureImage& weight = imageOf(g, m.specularTexture);
   EXPECT_EQ(weight.channels, 1) << "the alpha channel alone";
   EXPECT_NEAR(textureTexel(weight, 0, 0, 0).x, 128.0f / 255.0f, 1e-6f);
   ASSERT_GE(m.specularColorTexture, 0);
-  const TextureImage& colour =
-      g.images[size_t(g.textures[size_t(m.specularColorTexture)].imageIndex)];
+  const TextureImage& colour = imageOf(g, m.specularColorTexture);
   EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
   EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
   const std::string all = allWarnings(g);
@@ -64,18 +80,14 @@ TEST(Gltf, SpecularExtensionScalesTheDielectricLayer) {
 }
 
 TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
-  const std::string buffer = quadBuffer();
-  Json j = quadGltf(dataUri(buffer), buffer.size());
-  j["materials"][1]["extensions"]["KHR_materials_clearcoat"] = {
-      {"clearcoatFactor", 0.8},
-      {"clearcoatRoughnessFactor", 0.2},
-      {"clearcoatTexture", {{"index", 0}}},
-      {"clearcoatRoughnessTexture", {{"index", 0}}},
-      {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}};
   // The weight in red, the roughness in green: linear data.
-  j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
-  j["textures"] = {{{"source", 0}}};
-  j["extensionsUsed"].push_back("KHR_materials_clearcoat");
+  Json j = quadWithExtension(1, "KHR_materials_clearcoat",
+                             {{"clearcoatFactor", 0.8},
+                              {"clearcoatRoughnessFactor", 0.2},
+                              {"clearcoatTexture", {{"index", 0}}},
+                              {"clearcoatRoughnessTexture", {{"index", 0}}},
+                              {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}},
+                             {pngUri(1, 1, 3, {51, 102, 0})});
   const GltfData g = loadGltf(writeGltf("coat.gltf", j));
   const Material& m = g.materials[1];
   EXPECT_FLOAT_EQ(m.clearcoat, 0.8f);
@@ -83,7 +95,7 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
   EXPECT_EQ(g.materials[0].clearcoat, 0.0f);
   ASSERT_GE(m.clearcoatTexture, 0);
   EXPECT_EQ(m.clearcoatRoughnessTexture, m.clearcoatTexture) << "one image read one way";
-  const TextureImage& coat = g.images[size_t(g.textures[size_t(m.clearcoatTexture)].imageIndex)];
+  const TextureImage& coat = imageOf(g, m.clearcoatTexture);
   EXPECT_EQ(coat.encoding, TexelEncoding::Linear8);
   EXPECT_NEAR(textureTexel(coat, 0, 0, 0).x, 0.2f, 1e-6f);
   EXPECT_NEAR(textureTexel(coat, 0, 0, 0).y, 0.4f, 1e-6f);
@@ -98,18 +110,14 @@ TEST(Gltf, ClearcoatExtensionGivesTheCoatsWeightAndRoughness) {
 // KHR_materials_iridescence: the factor, the film's index and thickness range, the factor's
 // texture (red) and the thickness texture (green), both linear; a negative thickness is an error.
 TEST(Gltf, IridescenceExtensionIsRead) {
-  const std::string buffer = quadBuffer();
-  Json j = quadGltf(dataUri(buffer), buffer.size());
-  j["materials"][2]["extensions"]["KHR_materials_iridescence"] = {
-      {"iridescenceFactor", 0.75},
-      {"iridescenceIor", 1.8},
-      {"iridescenceThicknessMinimum", 200.0},
-      {"iridescenceThicknessMaximum", 600.0},
-      {"iridescenceTexture", {{"index", 0}}},
-      {"iridescenceThicknessTexture", {{"index", 0}}}};
-  j["images"] = {{{"uri", pngUri(1, 1, 3, {51, 102, 0})}}};
-  j["textures"] = {{{"source", 0}}};
-  j["extensionsUsed"].push_back("KHR_materials_iridescence");
+  Json j = quadWithExtension(2, "KHR_materials_iridescence",
+                             {{"iridescenceFactor", 0.75},
+                              {"iridescenceIor", 1.8},
+                              {"iridescenceThicknessMinimum", 200.0},
+                              {"iridescenceThicknessMaximum", 600.0},
+                              {"iridescenceTexture", {{"index", 0}}},
+                              {"iridescenceThicknessTexture", {{"index", 0}}}},
+                             {pngUri(1, 1, 3, {51, 102, 0})});
   const GltfData g = loadGltf(writeGltf("iridescence.gltf", j));
   const Material& m = g.materials[2];
   EXPECT_FLOAT_EQ(m.iridescence, 0.75f);
@@ -119,7 +127,7 @@ TEST(Gltf, IridescenceExtensionIsRead) {
   EXPECT_EQ(g.materials[0].iridescence, 0.0f) << "without the extension";
   ASSERT_GE(m.iridescenceTexture, 0);
   ASSERT_GE(m.iridescenceThicknessTexture, 0);
-  const TextureImage& t = g.images[size_t(g.textures[size_t(m.iridescenceTexture)].imageIndex)];
+  const TextureImage& t = imageOf(g, m.iridescenceTexture);
   EXPECT_EQ(t.encoding, TexelEncoding::Linear8);
   EXPECT_NEAR(textureTexel(t, 0, 0, 0).y, 0.4f, 1e-6f);
   const std::string all = allWarnings(g);
@@ -139,22 +147,17 @@ TEST(Gltf, IridescenceExtensionIsRead) {
 }
 
 TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
-  const std::string buffer = quadBuffer();
-  Json j = quadGltf(dataUri(buffer), buffer.size());
-  j["materials"][2]["extensions"]["KHR_materials_sheen"] = {
-      {"sheenColorFactor", {1.0, 0.5, 0.25}},
-      {"sheenRoughnessFactor", 0.6},
-      {"sheenColorTexture", {{"index", 1}}},
-      {"sheenRoughnessTexture", {{"index", 0}}}};
-  j["materials"][3]["extensions"]["KHR_materials_transmission"] = {
-      {"transmissionFactor", 1.0}, {"transmissionTexture", {{"index", 2}}}};
   // Image 0: the roughness in its alpha (64); image 1: an sRGB colour; image 2: the
   // transmission in red, linear.
-  j["images"] = {{{"uri", pngUri(1, 1, 4, {0, 0, 0, 64})}},
-                 {{"uri", pngUri(1, 1, 3, {255, 188, 0})}},
-                 {{"uri", pngUri(1, 1, 3, {51, 0, 0})}}};
-  j["textures"] = {{{"source", 0}}, {{"source", 1}}, {{"source", 2}}};
-  j["extensionsUsed"].push_back("KHR_materials_sheen");
+  Json j = quadWithExtension(2, "KHR_materials_sheen",
+                             {{"sheenColorFactor", {1.0, 0.5, 0.25}},
+                              {"sheenRoughnessFactor", 0.6},
+                              {"sheenColorTexture", {{"index", 1}}},
+                              {"sheenRoughnessTexture", {{"index", 0}}}},
+                             {pngUri(1, 1, 4, {0, 0, 0, 64}), pngUri(1, 1, 3, {255, 188, 0}),
+                              pngUri(1, 1, 3, {51, 0, 0})});
+  j["materials"][3]["extensions"]["KHR_materials_transmission"] = {
+      {"transmissionFactor", 1.0}, {"transmissionTexture", {{"index", 2}}}};
   j["extensionsUsed"].push_back("KHR_materials_transmission");
   const GltfData g = loadGltf(writeGltf("sheen.gltf", j));
   const Material& m = g.materials[2];
@@ -162,19 +165,17 @@ TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
   EXPECT_FLOAT_EQ(m.sheenRoughness, 0.6f);
   EXPECT_EQ(g.materials[0].sheenColor, vec3(0.0f)) << "without the extension";
   ASSERT_GE(m.sheenColorTexture, 0);
-  const TextureImage& colour = g.images[size_t(g.textures[size_t(m.sheenColorTexture)].imageIndex)];
+  const TextureImage& colour = imageOf(g, m.sheenColorTexture);
   EXPECT_EQ(colour.encoding, TexelEncoding::Srgb8);
   EXPECT_NEAR(textureTexel(colour, 0, 0, 0).y, 0.5f, 0.01f) << "sRGB 188 is about 0.5 linear";
   ASSERT_GE(m.sheenRoughnessTexture, 0);
-  const TextureImage& roughness =
-      g.images[size_t(g.textures[size_t(m.sheenRoughnessTexture)].imageIndex)];
+  const TextureImage& roughness = imageOf(g, m.sheenRoughnessTexture);
   EXPECT_EQ(roughness.channels, 1) << "the alpha channel alone";
   EXPECT_NEAR(textureTexel(roughness, 0, 0, 0).x, 64.0f / 255.0f, 1e-6f);
   const Material& glass = g.materials[3];
   EXPECT_FLOAT_EQ(glass.transmission, 1.0f);
   ASSERT_GE(glass.transmissionTexture, 0);
-  const TextureImage& share =
-      g.images[size_t(g.textures[size_t(glass.transmissionTexture)].imageIndex)];
+  const TextureImage& share = imageOf(g, glass.transmissionTexture);
   EXPECT_EQ(share.encoding, TexelEncoding::Linear8);
   EXPECT_NEAR(textureTexel(share, 0, 0, 0).x, 0.2f, 1e-6f);
   const std::string all = allWarnings(g);
@@ -187,16 +188,12 @@ TEST(Gltf, SheenExtensionAndTheTransmissionTextureAreRead) {
 }
 
 TEST(Gltf, AnisotropyExtensionIsRead) {
-  const std::string buffer = quadBuffer();
-  Json j = quadGltf(dataUri(buffer), buffer.size());
-  j["materials"][1]["extensions"]["KHR_materials_anisotropy"] = {
-      {"anisotropyStrength", 0.6},
-      {"anisotropyRotation", 1.25},
-      {"anisotropyTexture", {{"index", 0}}}};
   // The direction in red and green, the strength in blue: linear data.
-  j["images"] = {{{"uri", pngUri(1, 1, 3, {255, 128, 51})}}};
-  j["textures"] = {{{"source", 0}}};
-  j["extensionsUsed"].push_back("KHR_materials_anisotropy");
+  Json j = quadWithExtension(1, "KHR_materials_anisotropy",
+                             {{"anisotropyStrength", 0.6},
+                              {"anisotropyRotation", 1.25},
+                              {"anisotropyTexture", {{"index", 0}}}},
+                             {pngUri(1, 1, 3, {255, 128, 51})});
   const GltfData g = loadGltf(writeGltf("anisotropy.gltf", j));
   const Material& m = g.materials[1];
   EXPECT_FLOAT_EQ(m.anisotropyStrength, 0.6f);
@@ -204,7 +201,7 @@ TEST(Gltf, AnisotropyExtensionIsRead) {
   EXPECT_TRUE(m.needsTangents());
   EXPECT_EQ(g.materials[0].anisotropyStrength, 0.0f) << "without the extension";
   ASSERT_GE(m.anisotropyTexture, 0);
-  const TextureImage& t = g.images[size_t(g.textures[size_t(m.anisotropyTexture)].imageIndex)];
+  const TextureImage& t = imageOf(g, m.anisotropyTexture);
   EXPECT_EQ(t.encoding, TexelEncoding::Linear8);
   EXPECT_NEAR(textureTexel(t, 0, 0, 0).z, 0.2f, 1e-6f);
   EXPECT_EQ(allWarnings(g).find("KHR_materials_anisotropy"), std::string::npos) << allWarnings(g);
