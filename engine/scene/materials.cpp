@@ -264,14 +264,23 @@ vec3 sampleSpecularHalfVector(const SurfaceBsdf& b, glm::vec2 u, float side) {
   return glm::normalize(vec3(h.x, h.y, side));
 }
 
-// Smooth dielectric: reflection with the Fresnel probability, refraction otherwise.
+// Smooth dielectric: reflection with the Fresnel probability f, refraction otherwise. Under an
+// iridescent film (glTF's KHR_materials_iridescence) the film's share of the reflectance
+// replaces f, so the reflection carries mix(f, film, share) / f and the refraction what that
+// lets through over 1 - f; under total internal reflection nothing changes.
 void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) {
   const float f = fresnelDielectric(wo.z, b.ior);
+  const bool filmed = b.iridescence > 0 && f > 0.0f && f < 1.0f;
+  vec3 film(f);
+  if (filmed) {
+    const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
+    film = withIridescence(b, vec3(f), std::abs(wo.z), vec3(r * r));
+  }
   out.specular = true;
   out.pdf = 0;
   if (uc < f) {
     out.wi = b.frame.toWorld(vec3(-wo.x, -wo.y, wo.z));
-    out.weight = vec3(1.0f);
+    out.weight = filmed ? film / f : vec3(1.0f);
     return;
   }
   // Refraction; eta relative to the side wo is on.
@@ -284,18 +293,7 @@ void sampleDielectric(const SurfaceBsdf& b, vec3 wo, float uc, BsdfSample& out) 
   out.wi = glm::normalize(b.frame.toWorld(wi));
   // Radiance is compressed by (n_from/n_to)^2 when crossing into the denser medium.
   out.weight = vec3(eta * eta);
-}
-// Glass under an iridescent film. sampleDielectric chose the reflection with the chance f, the
-// glass's own Fresnel reflectance; the film's share of the reflectance replaces f, so the
-// reflection carries mix(f, film, share) / f and the refraction what that lets through over
-// 1 - f. Under total internal reflection nothing changes.
-void filmOverGlass(const SurfaceBsdf& b, vec3 wo, BsdfSample& out) {
-  const float f = fresnelDielectric(wo.z, b.ior);
-  if (!(f > 0.0f && f < 1.0f)) return;
-  const float r = (b.ior - 1.0f) / (b.ior + 1.0f);
-  const vec3 film = withIridescence(b, vec3(f), std::abs(wo.z), vec3(r * r));
-  const bool reflected = glm::dot(out.wi, b.frame.n) * wo.z > 0;
-  out.weight *= reflected ? film / f : (vec3(1.0f) - film) / (1.0f - f);
+  if (filmed) out.weight *= (vec3(1.0f) - film) / (1.0f - f);
 }
 }  // namespace
 
@@ -555,7 +553,6 @@ bool sampleBsdf(const SurfaceBsdf& b, vec3 woWorld, glm::vec2 u, float uc, BsdfS
       }
       if (uc < b.dielectricWeight) {
         sampleDielectric(b, wo, uc / b.dielectricWeight, out);
-        if (b.iridescence > 0) filmOverGlass(b, wo, out);
         // Transmission is tinted by the base colour (glTF's KHR_materials_transmission).
         if (glm::dot(out.wi, b.frame.n) * wo.z < 0) out.weight *= b.color;
         // Under a coat, glass gets what the coat lets through, over the chance of not drawing it.
